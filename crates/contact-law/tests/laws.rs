@@ -1,0 +1,187 @@
+//! The potential law against its closed-form limits, and the law invariants.
+#![allow(clippy::unwrap_used)]
+
+use std::f64::consts::PI;
+
+use proptest::prelude::*;
+use tyreroad_asperity::{Cone, EllipticParaboloid, Sphere};
+use tyreroad_contact_law::*;
+
+fn rubber() -> Material {
+    Material::new(6.54e6, 0.5).unwrap()
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn exact_constants_are_the_closed_forms() {
+    assert!(rel(C_HERTZ_EXACT, 2.0 / PI.powf(1.5)) < 1e-15);
+    assert!(rel(C_SNEDDON_EXACT, 45.0 / (4.0 * 2f64.sqrt() * PI.powf(2.5))) < 1e-15);
+}
+
+#[test]
+fn sphere_law_with_hertz_constant_tends_to_hertz() {
+    let r = 5e-3;
+    let law = PotentialLaw::sphere(Sphere::new(r).unwrap(), rubber())
+        .with_constant(C_HERTZ_EXACT)
+        .unwrap();
+    let hertz = HertzLaw::new(r, rubber()).unwrap();
+    for ratio in [1e-8, 1e-7] {
+        let d = ratio * r;
+        let (p, h) = (law.evaluate(d), hertz.evaluate(d));
+        assert!(rel(p.force, h.force) < 1e-6, "δ/R = {ratio}: P off by {}", rel(p.force, h.force));
+        assert!(rel(p.stiffness, h.stiffness) < 1e-6);
+    }
+    // Away from the limit the exact cap departs from Hertz's paraboloid at O(δ/R).
+    let d = 0.02 * r;
+    let deviation = rel(law.force(d), hertz.force(d));
+    assert!(deviation > 1e-4 && deviation < 0.05, "{deviation}");
+}
+
+#[test]
+fn paper_sphere_constant_is_within_a_quarter_percent_of_hertz() {
+    let law = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), rubber());
+    let hertz = HertzLaw::new(5e-3, rubber()).unwrap();
+    let d = 1e-9;
+    assert!(rel(law.force(d), hertz.force(d) * C_SPHERE / C_HERTZ_EXACT) < 1e-6);
+    assert!(rel(law.force(d), hertz.force(d)) < 2.5e-3);
+}
+
+#[test]
+fn cone_law_with_sneddon_constant_is_sneddon_at_every_depth() {
+    for alpha in [0.3, 1.0, 1.4] {
+        let law = PotentialLaw::cone(Cone::new(alpha).unwrap(), rubber())
+            .with_constant(C_SNEDDON_EXACT)
+            .unwrap();
+        let sneddon = SneddonLaw::new(alpha, rubber()).unwrap();
+        for d in [1e-7, 1e-4, 1e-2] {
+            let (p, s) = (law.evaluate(d), sneddon.evaluate(d));
+            assert!(rel(p.force, s.force) < 1e-12);
+            assert!(rel(p.stiffness, s.stiffness) < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn stiffness_agrees_with_finite_differences() {
+    let m = rubber();
+    let laws: Vec<Box<dyn ContactLaw>> = vec![
+        Box::new(PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), m)),
+        Box::new(PotentialLaw::cone(Cone::new(1.1).unwrap(), m)),
+        Box::new(PotentialLaw::paraboloid(EllipticParaboloid::new(2e-3, 9e-3).unwrap(), m)),
+        Box::new(HertzLaw::new(3e-3, m).unwrap()),
+        Box::new(SneddonLaw::new(0.7, m).unwrap()),
+    ];
+    for law in &laws {
+        for d in [1e-6, 1e-4, 1e-3, 3e-3] {
+            let h = d * 1e-6;
+            let fd = (law.force(d + h) - law.force(d - h)) / (2.0 * h);
+            let k = law.evaluate(d).stiffness;
+            assert!(rel(k, fd) < 1e-6, "δ = {d}: k = {k}, FD = {fd}");
+        }
+    }
+}
+
+#[test]
+fn force_is_zero_without_interpenetration() {
+    let law = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), rubber());
+    for d in [0.0, -1e-3, f64::NAN, f64::NEG_INFINITY] {
+        assert_eq!(law.evaluate(d), LawPoint::default());
+    }
+    assert_eq!(law.local_contact(0.0, 0.0), LocalContact::NONE);
+    // Tiny caps must not under/overflow into NaN.
+    for d in [1e-300, 1e-200, 1e-100] {
+        let p = law.evaluate(d);
+        assert!(p.force.is_finite() && p.force >= 0.0 && p.stiffness.is_finite());
+    }
+}
+
+#[test]
+fn hertz_local_contact_matches_hertz_radius() {
+    let (r, m) = (5e-3, rubber());
+    let law = PotentialLaw::sphere(Sphere::new(r).unwrap(), m);
+    let p = 20.0;
+    let c = law.local_contact(p, 1e-4);
+    let a = (3.0 * p * r / (4.0 * m.reduced_modulus())).cbrt();
+    assert!(rel(c.radius, a) < 1e-14);
+    // The Hertz profile integrates to the force: ∫ p 2πr dr = P.
+    let n = 20_000;
+    let integral: f64 = (0..n)
+        .map(|i| {
+            let rr = (i as f64 + 0.5) / n as f64 * a;
+            c.pressure_at(rr) * 2.0 * PI * rr * a / n as f64
+        })
+        .sum();
+    assert!(rel(integral, p) < 1e-5);
+    assert_eq!(c.pressure_at(a * 1.01), 0.0);
+}
+
+#[test]
+fn cone_local_contact_matches_sneddon() {
+    let (alpha, m) = (1.2, rubber());
+    let law = PotentialLaw::cone(Cone::new(alpha).unwrap(), m)
+        .with_constant(C_SNEDDON_EXACT)
+        .unwrap();
+    let sneddon = SneddonLaw::new(alpha, m).unwrap();
+    let d = 2e-4;
+    let p = law.force(d);
+    let (a, b) = (law.local_contact(p, d), sneddon.local_contact(p, d));
+    assert!(rel(a.radius, b.radius) < 1e-12);
+    let n = 200_000;
+    let integral: f64 = (0..n)
+        .map(|i| {
+            let rr = (i as f64 + 0.5) / n as f64 * a.radius;
+            a.pressure_at(rr) * 2.0 * PI * rr * a.radius / n as f64
+        })
+        .sum();
+    assert!(rel(integral, p) < 1e-4);
+}
+
+#[test]
+fn half_section_rule_is_hertz_for_a_paraboloid() {
+    let (r, m) = (4e-3, rubber());
+    let para = EllipticParaboloid::new(r, r).unwrap();
+    let law = PotentialLaw::new(para, m, C_HERTZ_EXACT, LocalRule::HalfSection).unwrap();
+    let d = 1e-5;
+    let c = law.local_contact(law.force(d), d);
+    assert!(rel(c.radius, (r * d).sqrt()) < 1e-12);
+}
+
+#[test]
+fn invalid_material_and_constant_are_refused() {
+    assert!(Material::new(0.0, 0.3).is_err());
+    assert!(Material::new(f64::NAN, 0.3).is_err());
+    assert!(Material::new(1e6, 0.51).is_err());
+    assert!(Material::new(1e6, -1.0).is_err());
+    assert!(Material::new(1e6, 0.5).is_ok());
+    let law = PotentialLaw::sphere(Sphere::new(1e-3).unwrap(), rubber());
+    assert!(law.clone().with_constant(0.0).is_err());
+    assert!(law.with_constant(f64::INFINITY).is_err());
+    assert!(HertzLaw::new(-1.0, rubber()).is_err());
+    assert!(SneddonLaw::new(2.0, rubber()).is_err());
+}
+
+proptest! {
+    #[test]
+    fn potential_law_is_continuous_and_increasing(
+        r in 1e-4f64..2e-2, frac_a in 1e-6f64..0.9, frac_b in 1e-6f64..0.9,
+        rx in 1e-4f64..1e-2, ry in 1e-4f64..1e-2, alpha in 0.2f64..1.4,
+    ) {
+        let m = rubber();
+        let (lo, hi) = if frac_a < frac_b { (frac_a, frac_b) } else { (frac_b, frac_a) };
+        let sphere = PotentialLaw::sphere(Sphere::new(r).unwrap(), m);
+        let cone = PotentialLaw::cone(Cone::new(alpha).unwrap(), m);
+        let para = PotentialLaw::paraboloid(EllipticParaboloid::new(rx, ry).unwrap(), m);
+        for law in [&sphere as &dyn ContactLaw, &cone, &para] {
+            let (a, b) = (law.evaluate(lo * r), law.evaluate(hi * r));
+            prop_assert!(a.force >= 0.0 && a.stiffness >= 0.0);
+            prop_assert!(b.force >= a.force);
+            // Continuity: a tiny step changes P by about k·dδ.
+            let h = lo * r * 1e-7;
+            let c = law.force(lo * r + h);
+            prop_assert!((c - a.force).abs() <= 2.0 * a.stiffness * h + 1e-12 * a.force);
+        }
+    }
+}

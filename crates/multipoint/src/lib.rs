@@ -1,0 +1,103 @@
+//! Multipoint contact of N rigid asperities with an elastic half-space.
+//!
+//! # Equations (Cesbron et al. 2006, eq. 2; DESIGN §2.2)
+//!
+//! Summit `i` at horizontal position `(x_i, y_i)` has an initial gap `H_i ≥ 0`
+//! to the undeformed tread. With `δ0` the rigid approach of the tread,
+//!
+//! ```text
+//! P_i = P_i^law(δ_i),   δ_i = δ0 − H_i − u_i,   u_i = Σ_{j≠i} T_ij P_j,
+//! T_ij = (1 − ν²) / (π E r_ij)            (Boussinesq)
+//! ```
+//!
+//! and either `δ0` is imposed ([`Control::Approach`]) or the total load
+//! `Σ P_i = W` ([`Control::Load`], `δ0` unknown). An asperity with `δ_i ≤ 0`
+//! carries no force.
+//!
+//! # Method
+//!
+//! Newton–Raphson on `R_i = P_i − P_i^law(δ_i)`. Rows out of contact
+//! (`k_i = dP/dδ = 0`) reduce to `ΔP_i = −R_i`; the others, divided by `k_i`,
+//! give the symmetric system `(diag(1/k) + T_AA) ΔP_A − Δδ0 = b`, bordered by
+//! the load equation under load control and solved by one Cholesky
+//! factorization (LU when the matrix is indefinite) for two right-hand sides.
+//! Only asperities in contact enter the factorization. A backtracking line
+//! search on `‖R‖²` globalises each solve; if that fails, the load (or
+//! approach) is applied in adaptive steps from first contact. Convergence is
+//! declared on the max-norm of all residuals, load equation included,
+//! relative to the force scale ([`SolverOptions::tolerance`]); a solve that does
+//! not get there says so with its iterations and residual
+//! ([`SolveError::NotConverged`]).
+//!
+//! # Invariants
+//!
+//! - forces are non-negative, exactly zero out of contact;
+//! - under load control `Σ P_i = W` to the tolerance (the load equation is
+//!   linear, so a full Newton step meets it to rounding);
+//! - the laws know nothing of this crate: any [`ContactLaw`] works, mixed
+//!   shapes through `Box<dyn ContactLaw + Sync>`;
+//! - parallelism is the caller's choice ([`SolverOptions::par`]).
+//!
+//! # Example
+//!
+//! ```
+//! use tyreroad_asperity::Sphere;
+//! use tyreroad_contact_law::{Material, PotentialLaw};
+//! use tyreroad_multipoint::{solve, Control, Problem, SolverOptions};
+//!
+//! let rubber = Material::new(6.54e6, 0.5)?;
+//! let ball = PotentialLaw::sphere(Sphere::new(5e-3)?, rubber);
+//! // Three balls in a row, 10 mm apart, the middle one 0.05 mm lower.
+//! let problem = Problem::new(
+//!     vec![[-0.01, 0.0], [0.0, 0.0], [0.01, 0.0]],
+//!     vec![0.0, 5e-5, 0.0],
+//!     vec![ball.clone(), ball.clone(), ball],
+//!     rubber,
+//! )?;
+//! let solution = solve(&problem, Control::Load(30.0), &SolverOptions::default())?;
+//! assert!((solution.total_force() - 30.0).abs() < 1e-9);
+//! assert!((solution.forces[0] - solution.forces[2]).abs() < 1e-9);
+//! assert!(solution.forces[1] < solution.forces[0]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod interaction;
+mod problem;
+mod solution;
+mod solver;
+
+pub use faer::Par;
+pub use interaction::Boussinesq;
+pub use problem::Problem;
+pub use solution::{PressureGrid, Solution, pressure_map};
+pub use solver::{Control, SolverOptions, solve, solve_from};
+pub use tyreroad_contact_law::ContactLaw;
+
+/// What can go wrong in a multipoint solve.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// The problem or the request is malformed.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+    /// Two summits share a horizontal position (`1/r` is infinite).
+    #[error("summits {first} and {second} coincide: the Boussinesq coupling 1/r is infinite")]
+    CoincidentSummits {
+        /// The first summit's index.
+        first: usize,
+        /// The second summit's index.
+        second: usize,
+    },
+    /// Newton did not reach the tolerance.
+    #[error(
+        "Newton-Raphson did not converge: {iterations} iterations over {load_steps} load steps, \
+         relative residual {residual:.3e}"
+    )]
+    NotConverged {
+        /// Iterations spent, all load steps included.
+        iterations: usize,
+        /// Load steps tried.
+        load_steps: usize,
+        /// Best max-norm residual reached, relative to the force scale.
+        residual: f64,
+    },
+}

@@ -1,0 +1,186 @@
+//! The solved state, and what is rebuilt from it: local contacts and maps.
+
+use faer::Par;
+use tyreroad_contact_law::{ContactLaw, LocalContact};
+
+use crate::{Boussinesq, Problem, SolveError};
+
+/// A converged multipoint contact.
+///
+/// Invariants: `forces[i] ≥ 0`; an asperity out of contact
+/// (`depths[i] ≤ 0`) carries exactly zero; every residual
+/// `|P_i − P_i^law(δ_i)|` is below the requested tolerance (`residual`
+/// reports the largest, relative to the force scale).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Force `P_i` on each asperity (N).
+    pub forces: Vec<f64>,
+    /// Local interpenetration `δ_i = δ0 − H_i − u_i` (m); negative out of contact.
+    pub depths: Vec<f64>,
+    /// Rigid approach `δ0` of the tread (m).
+    pub approach: f64,
+    /// Newton iterations, all load steps included.
+    pub iterations: usize,
+    /// Load steps used (1 when the direct solve converged, 0 for a trivial
+    /// contact-free problem).
+    pub load_steps: usize,
+    /// Final max-norm residual relative to the force scale.
+    pub residual: f64,
+}
+
+impl Solution {
+    pub(crate) fn assemble<L: ContactLaw>(
+        problem: &Problem<L>,
+        forces: Vec<f64>,
+        approach: f64,
+        iterations: usize,
+        load_steps: usize,
+        residual: f64,
+    ) -> Self {
+        let mut u = vec![0.0; forces.len()];
+        Boussinesq::new(problem.positions(), problem.material().boussinesq_factor())
+            .apply(&forces, &mut u, Par::Seq);
+        let depths = problem
+            .gaps()
+            .iter()
+            .zip(&u)
+            .map(|(h, u)| approach - h - u)
+            .collect();
+        Self {
+            forces,
+            depths,
+            approach,
+            iterations,
+            load_steps,
+            residual,
+        }
+    }
+
+    /// Assembles a converged state, zeroing exactly the forces left on
+    /// asperities out of contact (they are below the tolerance already).
+    pub(crate) fn finish<L: ContactLaw>(
+        problem: &Problem<L>,
+        forces: Vec<f64>,
+        approach: f64,
+        iterations: usize,
+        load_steps: usize,
+        residual: f64,
+    ) -> Self {
+        let mut s = Self::assemble(problem, forces, approach, iterations, load_steps, residual);
+        for (p, d) in s.forces.iter_mut().zip(&s.depths) {
+            if !(*d > 0.0) || *p < 0.0 {
+                *p = 0.0;
+            }
+        }
+        s
+    }
+
+    /// `Σ P_i` (N).
+    pub fn total_force(&self) -> f64 {
+        self.forces.iter().sum()
+    }
+
+    /// Whether asperity `i` is in contact (carries a force).
+    pub fn in_contact(&self, i: usize) -> bool {
+        self.forces[i] > 0.0
+    }
+
+    /// Number of asperities in contact.
+    pub fn contact_count(&self) -> usize {
+        self.forces.iter().filter(|&&p| p > 0.0).count()
+    }
+
+    /// The local contact of every asperity (radius, pressure profile), from
+    /// its law's local rule (Hertz for spheres).
+    pub fn local_contacts<L: ContactLaw>(&self, problem: &Problem<L>) -> Vec<LocalContact> {
+        problem
+            .laws()
+            .iter()
+            .zip(self.forces.iter().zip(&self.depths))
+            .map(|(law, (&p, &d))| law.local_contact(p, d))
+            .collect()
+    }
+}
+
+/// A regular grid on which to sample a pressure map: cell centres at
+/// `(x0 + (i + ½) dx, y0 + (j + ½) dy)`, row-major in `j` (y) then `i` (x).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PressureGrid {
+    /// Lower-left corner x (m).
+    pub x0: f64,
+    /// Lower-left corner y (m).
+    pub y0: f64,
+    /// Cell size along x (m).
+    pub dx: f64,
+    /// Cell size along y (m).
+    pub dy: f64,
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+}
+
+impl PressureGrid {
+    /// Checks the grid is usable.
+    pub fn validate(&self) -> Result<(), SolveError> {
+        let ok = self.x0.is_finite()
+            && self.y0.is_finite()
+            && self.dx.is_finite()
+            && self.dx > 0.0
+            && self.dy.is_finite()
+            && self.dy > 0.0
+            && self.nx > 0
+            && self.ny > 0;
+        if ok {
+            Ok(())
+        } else {
+            Err(SolveError::InvalidInput(format!(
+                "pressure grid needs finite origin, spacings > 0 and cells > 0: {self:?}"
+            )))
+        }
+    }
+}
+
+/// The pressure map (Pa) of the whole contact patch: the sum of every local
+/// contact's pressure distribution centred on its summit, sampled at the
+/// centres of `grid` (DESIGN §2.3).
+pub fn pressure_map(
+    positions: &[[f64; 2]],
+    contacts: &[LocalContact],
+    grid: &PressureGrid,
+) -> Result<Vec<f64>, SolveError> {
+    grid.validate()?;
+    if positions.len() != contacts.len() {
+        return Err(SolveError::InvalidInput(format!(
+            "{} positions for {} local contacts",
+            positions.len(),
+            contacts.len()
+        )));
+    }
+    let mut map = vec![0.0; grid.nx * grid.ny];
+    for (c, [xc, yc]) in contacts.iter().zip(positions) {
+        if !(c.radius > 0.0) {
+            continue;
+        }
+        // Only the cells whose centres can lie within the contact.
+        let cell = |v: f64, v0: f64, d: f64, n: usize| -> usize {
+            (((v - v0) / d - 0.5).max(0.0) as usize).min(n)
+        };
+        let (i0, i1) = (
+            cell(xc - c.radius, grid.x0, grid.dx, grid.nx),
+            (cell(xc + c.radius, grid.x0, grid.dx, grid.nx) + 2).min(grid.nx),
+        );
+        let (j0, j1) = (
+            cell(yc - c.radius, grid.y0, grid.dy, grid.ny),
+            (cell(yc + c.radius, grid.y0, grid.dy, grid.ny) + 2).min(grid.ny),
+        );
+        for j in j0..j1 {
+            let y = grid.y0 + (j as f64 + 0.5) * grid.dy;
+            for i in i0..i1 {
+                let x = grid.x0 + (i as f64 + 0.5) * grid.dx;
+                map[j * grid.nx + i] += c.pressure_at((x - xc).hypot(y - yc));
+            }
+        }
+    }
+    Ok(map)
+}

@@ -1,0 +1,537 @@
+//! Newton–Raphson on the N nonlinear equations, globalised by a line search
+//! and, when that is not enough, by load (or approach) stepping.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt;
+use faer::linalg::lu::partial_pivoting as lu;
+use faer::{Mat, MatMut, Par};
+use tyreroad_contact_law::ContactLaw;
+
+use crate::{Boussinesq, Problem, Solution, SolveError};
+
+/// What is imposed on the tread.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Control {
+    /// The total normal load `Σ P_i = W` (N); the approach `δ0` is unknown.
+    Load(f64),
+    /// The rigid approach `δ0` (m); the total load is an output.
+    Approach(f64),
+}
+
+/// Tuning of the solver. The defaults converge from a cold start on every
+/// layout in the test suite.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverOptions {
+    /// Convergence when every residual `|P_i − P_i^law(δ_i)|` and the load
+    /// residual are below `tolerance × force scale` (the imposed load, or the
+    /// uncoupled total force under approach control).
+    pub tolerance: f64,
+    /// Newton iterations allowed per load step.
+    pub max_iterations: usize,
+    /// Load (or approach) steps allowed when a direct solve fails.
+    pub max_load_steps: usize,
+    /// Parallelism of the interaction products and of the factorizations.
+    pub par: Par,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-11,
+            max_iterations: 60,
+            max_load_steps: 200,
+            par: Par::Seq,
+        }
+    }
+}
+
+/// Solves the multipoint contact `problem` under `control` from a cold start.
+pub fn solve<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    control: Control,
+    options: &SolverOptions,
+) -> Result<Solution, SolveError> {
+    solve_from(problem, control, options, None)
+}
+
+/// Solves from a previous solution of the same asperities (warm start, e.g.
+/// the previous step of a rolling path), or cold when `initial` is `None`.
+pub fn solve_from<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    control: Control,
+    options: &SolverOptions,
+    initial: Option<&Solution>,
+) -> Result<Solution, SolveError> {
+    check_control(control)?;
+    check_options(options)?;
+    let n = problem.len();
+    if let Some(s) = initial {
+        if s.forces.len() != n {
+            return Err(SolveError::InvalidInput(format!(
+                "warm start has {} forces for {n} asperities",
+                s.forces.len()
+            )));
+        }
+    }
+    let mut ws = Workspace::new(n);
+    let op = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
+    let first_touch = problem
+        .gaps()
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+
+    let scale = match control {
+        Control::Load(w) => w,
+        Control::Approach(d0) => {
+            let laws = problem.laws();
+            let gaps = problem.gaps();
+            (0..n).map(|i| laws[i].force(d0 - gaps[i])).sum::<f64>()
+        }
+    };
+    if scale == 0.0 {
+        // Nothing touches: no load, or an approach short of the highest summit.
+        let approach = match control {
+            Control::Load(_) => first_touch,
+            Control::Approach(d0) => d0,
+        };
+        return Ok(Solution::assemble(problem, vec![0.0; n], approach, 0, 0, 0.0));
+    }
+    let tol = options.tolerance * scale;
+
+    // Start: the warm state, or the uncoupled solution (T = 0).
+    let (mut p, mut d0) = match initial {
+        Some(s) => (s.forces.clone(), s.approach),
+        None => {
+            ws.u.iter_mut().for_each(|u| *u = 0.0);
+            uncoupled_start(problem, control, &ws.u)
+        }
+    };
+    if let Control::Approach(target) = control {
+        d0 = target;
+    }
+    let mut iterations = 0;
+    let direct = newton(problem, &op, control, &mut p, &mut d0, tol, options, &mut ws);
+    iterations += direct.iterations;
+    if direct.converged {
+        return Ok(Solution::finish(
+            problem, p, d0, iterations, 1, direct.residual / scale,
+        ));
+    }
+
+    // Continuation from first contact: s ∈ (0, 1] scales the load (or the
+    // approach beyond first touch); each step starts from the last converged
+    // state scaled to the new target.
+    let start_d0 = match control {
+        Control::Load(_) => first_touch,
+        Control::Approach(_) => first_touch,
+    };
+    let target_at = |s: f64| match control {
+        Control::Load(w) => Control::Load(w * s),
+        Control::Approach(d) => Control::Approach(start_d0 + s * (d - start_d0)),
+    };
+    let (mut s, mut step) = (0.0_f64, 1.0 / 16.0);
+    let (mut p_ok, mut d0_ok) = (vec![0.0; n], start_d0);
+    let mut steps = 0;
+    let mut last_residual = direct.residual;
+    while s < 1.0 {
+        if steps >= options.max_load_steps || step < 1e-9 {
+            return Err(SolveError::NotConverged {
+                iterations,
+                load_steps: steps,
+                residual: last_residual / scale,
+            });
+        }
+        steps += 1;
+        let s_next = (s + step).min(1.0);
+        let sub = target_at(s_next);
+        if s > 0.0 {
+            let ratio = s_next / s;
+            p.iter_mut().zip(&p_ok).for_each(|(p, q)| *p = q * ratio);
+            d0 = d0_ok;
+        } else {
+            ws.u.iter_mut().for_each(|u| *u = 0.0);
+            (p, d0) = uncoupled_start(problem, sub, &ws.u);
+        }
+        if let Control::Approach(d) = sub {
+            d0 = d;
+        }
+        let sub_scale = match sub {
+            Control::Load(w) => w,
+            Control::Approach(_) => scale * s_next,
+        };
+        let run = newton(
+            problem,
+            &op,
+            sub,
+            &mut p,
+            &mut d0,
+            options.tolerance * sub_scale,
+            options,
+            &mut ws,
+        );
+        iterations += run.iterations;
+        last_residual = run.residual;
+        if run.converged {
+            s = s_next;
+            p_ok.copy_from_slice(&p);
+            d0_ok = d0;
+            step = (step * 2.0).min(1.0);
+        } else {
+            step *= 0.25;
+        }
+    }
+    Ok(Solution::finish(
+        problem,
+        p_ok,
+        d0_ok,
+        iterations,
+        steps + 1,
+        last_residual / scale,
+    ))
+}
+
+fn check_control(control: Control) -> Result<(), SolveError> {
+    match control {
+        Control::Load(w) if !(w.is_finite() && w >= 0.0) => Err(SolveError::InvalidInput(
+            format!("imposed load must be finite and ≥ 0 N, got {w}"),
+        )),
+        Control::Approach(d) if !d.is_finite() => Err(SolveError::InvalidInput(format!(
+            "imposed approach must be finite, got {d}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn check_options(options: &SolverOptions) -> Result<(), SolveError> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) || options.max_iterations == 0
+    {
+        return Err(SolveError::InvalidInput(format!(
+            "solver options need tolerance > 0 and max_iterations ≥ 1, got {} and {}",
+            options.tolerance, options.max_iterations
+        )));
+    }
+    Ok(())
+}
+
+/// The state where every asperity carries its own law's force at fixed
+/// interaction displacements `u`: under load control the approach solves
+/// `Σ P_i^law(δ0 − H_i − u_i) = W` (monotone in δ0: bracketing and bisection).
+fn uncoupled_start<L: ContactLaw>(
+    problem: &Problem<L>,
+    control: Control,
+    u: &[f64],
+) -> (Vec<f64>, f64) {
+    let (laws, gaps) = (problem.laws(), problem.gaps());
+    let total = |d0: f64| -> f64 {
+        laws.iter()
+            .zip(gaps.iter().zip(u))
+            .map(|(law, (h, u))| law.force(d0 - h - u))
+            .sum()
+    };
+    let d0 = match control {
+        Control::Approach(d0) => d0,
+        Control::Load(w) => {
+            let lo0 = gaps
+                .iter()
+                .zip(u)
+                .map(|(h, u)| h + u)
+                .fold(f64::INFINITY, f64::min);
+            let spread = gaps
+                .iter()
+                .zip(u)
+                .map(|(h, u)| h + u - lo0)
+                .fold(0.0, f64::max);
+            let mut width = (spread * 1e-3).max(lo0.abs() * 1e-9).max(1e-12);
+            while total(lo0 + width) < w && width < 1e3 {
+                width *= 2.0;
+            }
+            let (mut lo, mut hi) = (lo0, lo0 + width);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if total(mid) < w {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+                if hi - lo <= 1e-15 * hi.abs().max(width) {
+                    break;
+                }
+            }
+            0.5 * (lo + hi)
+        }
+    };
+    let p = laws
+        .iter()
+        .zip(gaps.iter().zip(u))
+        .map(|(law, (h, u))| law.force(d0 - h - u))
+        .collect();
+    (p, d0)
+}
+
+struct Workspace {
+    u: Vec<f64>,
+    residual: Vec<f64>,
+    stiffness: Vec<f64>,
+    step: Vec<f64>,
+    trial: Vec<f64>,
+    active: Vec<usize>,
+    matrix: Mat<f64>,
+    rhs: Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    stack: MemBuffer,
+}
+
+impl Workspace {
+    fn new(n: usize) -> Self {
+        Self {
+            u: vec![0.0; n],
+            residual: vec![0.0; n],
+            stiffness: vec![0.0; n],
+            step: vec![0.0; n],
+            trial: vec![0.0; n],
+            active: Vec::with_capacity(n),
+            matrix: Mat::zeros(0, 0),
+            rhs: Mat::zeros(n, 2),
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            stack: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+        }
+    }
+}
+
+struct NewtonRun {
+    converged: bool,
+    iterations: usize,
+    residual: f64,
+}
+
+/// Residuals at `(p, d0)`: fills `ws.residual`, `ws.stiffness`, `ws.u`; returns
+/// (max-norm, sum of squares) including the load equation.
+fn evaluate<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    op: &Boussinesq<'_>,
+    control: Control,
+    p: &[f64],
+    d0: f64,
+    ws: &mut Workspace,
+    par: Par,
+) -> (f64, f64) {
+    op.apply(p, &mut ws.u, par);
+    let (laws, gaps) = (problem.laws(), problem.gaps());
+    let (mut max, mut sq) = (0.0_f64, 0.0);
+    for i in 0..p.len() {
+        let law = laws[i].evaluate(d0 - gaps[i] - ws.u[i]);
+        let r = p[i] - law.force;
+        ws.residual[i] = r;
+        ws.stiffness[i] = law.stiffness;
+        max = max.max(r.abs());
+        sq += r * r;
+    }
+    if let Control::Load(w) = control {
+        let r = p.iter().sum::<f64>() - w;
+        max = max.max(r.abs());
+        sq += r * r;
+    }
+    // A NaN anywhere must never pass for convergence.
+    if max.is_nan() || sq.is_nan() {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    (max, sq)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn newton<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    op: &Boussinesq<'_>,
+    control: Control,
+    p: &mut [f64],
+    d0: &mut f64,
+    tol: f64,
+    options: &SolverOptions,
+    ws: &mut Workspace,
+) -> NewtonRun {
+    let par = options.par;
+    let (mut max, mut merit) = evaluate(problem, op, control, p, *d0, ws, par);
+    for iteration in 0..options.max_iterations {
+        if max <= tol {
+            return NewtonRun {
+                converged: true,
+                iterations: iteration,
+                residual: max,
+            };
+        }
+        let Some(d0_step) = newton_step(op, control, p, ws, par) else {
+            // Under load control with nothing in contact: re-seat the tread on
+            // the current interaction displacements and carry on.
+            (ws.trial, *d0) = uncoupled_start(problem, control, &ws.u);
+            p.copy_from_slice(&ws.trial);
+            (max, merit) = evaluate(problem, op, control, p, *d0, ws, par);
+            continue;
+        };
+        // Backtracking line search on the sum of squared residuals.
+        let mut alpha = 1.0;
+        let accepted = loop {
+            for ((t, &pi), &si) in ws.trial.iter_mut().zip(p.iter()).zip(&ws.step) {
+                *t = pi + alpha * si;
+            }
+            let trial_d0 = *d0 + alpha * d0_step;
+            let trial = std::mem::take(&mut ws.trial);
+            let (m, sq) = evaluate(problem, op, control, &trial, trial_d0, ws, par);
+            ws.trial = trial;
+            if sq <= (1.0 - 1e-4 * alpha) * merit || m <= tol {
+                p.copy_from_slice(&ws.trial);
+                *d0 = trial_d0;
+                (max, merit) = (m, sq);
+                break true;
+            }
+            alpha *= 0.5;
+            if alpha < 1e-6 {
+                break false;
+            }
+        };
+        if !accepted {
+            // Restore residuals of the current iterate for the report.
+            (max, _) = evaluate(problem, op, control, p, *d0, ws, par);
+            return NewtonRun {
+                converged: false,
+                iterations: iteration + 1,
+                residual: max,
+            };
+        }
+    }
+    NewtonRun {
+        converged: max <= tol,
+        iterations: options.max_iterations,
+        residual: max,
+    }
+}
+
+/// One Newton direction into `ws.step`; returns the approach increment, or
+/// `None` under load control when no asperity is in contact.
+///
+/// Rows out of contact (`k_i = 0`) read `ΔP_i = −R_i`. Active rows, divided
+/// by `k_i`, form the symmetric system `(diag(1/k) + T_AA) ΔP_A − Δδ0 = b`,
+/// bordered under load control by `Σ ΔP = W − Σ P`; it is solved with one
+/// factorization for two right-hand sides (`b` and `1`).
+fn newton_step(
+    op: &Boussinesq<'_>,
+    control: Control,
+    p: &[f64],
+    ws: &mut Workspace,
+    par: Par,
+) -> Option<f64> {
+    let n = p.len();
+    ws.active.clear();
+    for i in 0..n {
+        if ws.stiffness[i] > 0.0 {
+            ws.active.push(i);
+        } else {
+            ws.step[i] = -ws.residual[i];
+        }
+    }
+    let na = ws.active.len();
+    let load = match control {
+        Control::Load(w) => Some(w),
+        Control::Approach(_) => None,
+    };
+    if na == 0 {
+        return match load {
+            Some(_) => None,
+            None => Some(0.0),
+        };
+    }
+    // Right-hand sides: b_i = −R_i/k_i − Σ_{j inactive} T_ij ΔP_j, and 1.
+    let moving: Vec<usize> = (0..n)
+        .filter(|&j| ws.stiffness[j] <= 0.0 && ws.step[j] != 0.0)
+        .collect();
+    let ncols = if load.is_some() { 2 } else { 1 };
+    ws.rhs.resize_with(na, ncols, |_, _| 0.0);
+    for (a, &i) in ws.active.iter().enumerate() {
+        let coupling: f64 = moving
+            .iter()
+            .map(|&j| op.coefficient(i, j) * ws.step[j])
+            .sum();
+        ws.rhs[(a, 0)] = -ws.residual[i] / ws.stiffness[i] - coupling;
+        if ncols == 2 {
+            ws.rhs[(a, 1)] = 1.0;
+        }
+    }
+    solve_active(op, ws, na, ncols, par);
+    let d0_step = match load {
+        Some(w) => {
+            let sum_p: f64 = p.iter().sum();
+            let inactive: f64 = moving.iter().map(|&j| ws.step[j]).sum();
+            let c = w - sum_p - inactive;
+            let (mut sx, mut sy) = (0.0, 0.0);
+            for a in 0..na {
+                sx += ws.rhs[(a, 0)];
+                sy += ws.rhs[(a, 1)];
+            }
+            if sy.abs() < f64::MIN_POSITIVE || !sy.is_finite() {
+                return None;
+            }
+            (c - sx) / sy
+        }
+        None => 0.0,
+    };
+    for (a, &i) in ws.active.iter().enumerate() {
+        let y = if ncols == 2 { ws.rhs[(a, 1)] } else { 0.0 };
+        ws.step[i] = ws.rhs[(a, 0)] + y * d0_step;
+    }
+    Some(d0_step)
+}
+
+/// Solves `(diag(1/k_A) + T_AA) X = rhs` in place: Cholesky when the matrix is
+/// positive definite (the usual case), partial-pivoting LU when it is not
+/// (T has a zero diagonal, so very stiff close neighbours can make it
+/// indefinite).
+fn solve_active(op: &Boussinesq<'_>, ws: &mut Workspace, na: usize, ncols: usize, par: Par) {
+    if ws.matrix.nrows() < na {
+        ws.matrix = Mat::zeros(na, na);
+        let llt_req = llt::factor::cholesky_in_place_scratch::<f64>(na, par, Default::default());
+        let lu_req = lu::factor::lu_in_place_scratch::<usize, f64>(na, na, par, Default::default())
+            .or(lu::solve::solve_in_place_scratch::<usize, f64>(na, 2, par));
+        ws.stack = MemBuffer::new(llt_req.or(lu_req));
+    }
+    fill_matrix(op, &ws.active, &ws.stiffness, &mut ws.matrix);
+    let stack = MemStack::new(&mut ws.stack);
+    let factored = {
+        let a = ws.matrix.as_mut().submatrix_mut(0, 0, na, na);
+        llt::factor::cholesky_in_place(a, Default::default(), par, stack, Default::default())
+            .is_ok()
+    };
+    let rhs = ws.rhs.as_mut().submatrix_mut(0, 0, na, ncols);
+    if factored {
+        let l = ws.matrix.as_ref().submatrix(0, 0, na, na);
+        llt::solve::solve_in_place(l, rhs, par, stack);
+        return;
+    }
+    fill_matrix(op, &ws.active, &ws.stiffness, &mut ws.matrix);
+    let a: MatMut<'_, f64> = ws.matrix.as_mut().submatrix_mut(0, 0, na, na);
+    let (_, perm) = lu::factor::lu_in_place(
+        a,
+        &mut ws.perm[..na],
+        &mut ws.perm_inv[..na],
+        par,
+        stack,
+        Default::default(),
+    );
+    let f = ws.matrix.as_ref().submatrix(0, 0, na, na);
+    lu::solve::solve_in_place(f, f, perm, ws.rhs.as_mut().submatrix_mut(0, 0, na, ncols), par, stack);
+}
+
+fn fill_matrix(op: &Boussinesq<'_>, active: &[usize], stiffness: &[f64], matrix: &mut Mat<f64>) {
+    let na = active.len();
+    let mut m = matrix.as_mut().submatrix_mut(0, 0, na, na);
+    for (b, &j) in active.iter().enumerate() {
+        for (a, &i) in active.iter().enumerate() {
+            m[(a, b)] = if a == b {
+                1.0 / stiffness[i]
+            } else {
+                op.coefficient(i, j)
+            };
+        }
+    }
+}

@@ -1,0 +1,262 @@
+//! The multipoint solver against single-asperity laws, symmetry, balance and
+//! the defining equations themselves.
+#![allow(clippy::unwrap_used)]
+
+use tyreroad_asperity::{Cone, Sphere};
+use tyreroad_contact_law::{ContactLaw, Material, PotentialLaw};
+use tyreroad_multipoint::*;
+
+type SphereLaw = PotentialLaw<Sphere>;
+
+fn rubber() -> Material {
+    Material::new(6.54e6, 0.5).unwrap()
+}
+
+fn ball(r: f64) -> SphereLaw {
+    PotentialLaw::sphere(Sphere::new(r).unwrap(), rubber())
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// The paper's 5 × 5 grid of R = 5 mm balls at 10 mm pitch, coplanar.
+fn paper_grid() -> Problem<SphereLaw> {
+    let mut positions = Vec::new();
+    for j in -2..=2 {
+        for i in -2..=2 {
+            positions.push([i as f64 * 0.01, j as f64 * 0.01]);
+        }
+    }
+    let n = positions.len();
+    Problem::new(positions, vec![0.0; n], vec![ball(5e-3); n], rubber()).unwrap()
+}
+
+/// Deterministic pseudo-random numbers in [0, 1) (no RNG dependency needed).
+fn lcg(seed: &mut u64) -> f64 {
+    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Checks the defining equations directly, independently of the solver.
+fn assert_satisfies_equations<L: ContactLaw>(problem: &Problem<L>, s: &Solution, tol: f64) {
+    let f = problem.material().boussinesq_factor();
+    let pos = problem.positions();
+    let scale = s.total_force();
+    for i in 0..problem.len() {
+        let u: f64 = (0..problem.len())
+            .filter(|&j| j != i)
+            .map(|j| {
+                let r = ((pos[i][0] - pos[j][0]).powi(2) + (pos[i][1] - pos[j][1]).powi(2)).sqrt();
+                f * s.forces[j] / r
+            })
+            .sum();
+        let delta = s.approach - problem.gaps()[i] - u;
+        assert!((delta - s.depths[i]).abs() <= 1e-12 * s.approach.abs().max(1e-9));
+        let law = problem.laws()[i].force(delta);
+        assert!(
+            (s.forces[i] - law).abs() <= tol * scale,
+            "asperity {i}: P = {}, law = {law}",
+            s.forces[i]
+        );
+        assert!(s.forces[i] >= 0.0);
+    }
+}
+
+#[test]
+fn one_asperity_equals_its_law() {
+    let law = ball(5e-3);
+    let problem = Problem::new(vec![[0.0, 0.0]], vec![0.0], vec![law.clone()], rubber()).unwrap();
+    let s = solve(&problem, Control::Load(20.0), &SolverOptions::default()).unwrap();
+    assert!(rel(s.forces[0], 20.0) < 1e-12);
+    assert!(rel(law.force(s.approach), 20.0) < 1e-10);
+    let back = solve(&problem, Control::Approach(s.approach), &SolverOptions::default()).unwrap();
+    assert!(rel(back.forces[0], 20.0) < 1e-10);
+}
+
+#[test]
+fn two_asperities_far_apart_act_independently() {
+    let (a, b) = (ball(5e-3), ball(2e-3));
+    let d0 = 1e-4;
+    let problem = Problem::new(
+        vec![[0.0, 0.0], [1e3, 0.0]],
+        vec![0.0, 2e-5],
+        vec![a.clone(), b.clone()],
+        rubber(),
+    )
+    .unwrap();
+    let s = solve(&problem, Control::Approach(d0), &SolverOptions::default()).unwrap();
+    // At 1 km the coupling displaces each summit by ~1e-11 of δ: independent.
+    assert!(rel(s.forces[0], a.force(d0)) < 1e-6);
+    assert!(rel(s.forces[1], b.force(d0 - 2e-5)) < 1e-6);
+}
+
+#[test]
+fn paper_grid_is_symmetric_and_balanced() {
+    let problem = paper_grid();
+    for load in [289.0, 355.0, 419.0, 500.0] {
+        let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
+        assert!(rel(s.total_force(), load) < 1e-10, "load balance");
+        let at = |i: i32, j: i32| s.forces[((j + 2) * 5 + (i + 2)) as usize];
+        for i in -2..=2 {
+            for j in -2..=2 {
+                let p = at(i, j);
+                for q in [at(-i, j), at(i, -j), at(j, i), at(-j, -i)] {
+                    assert!((p - q).abs() <= 1e-9 * load, "symmetry");
+                }
+            }
+        }
+        // Interaction unloads the centre: corner > edge > centre.
+        assert!(at(2, 2) > at(2, 0) && at(2, 0) > at(0, 0));
+        assert_satisfies_equations(&problem, &s, 1e-10);
+    }
+}
+
+#[test]
+fn load_and_displacement_control_agree() {
+    let mut seed = 7;
+    let n = 60;
+    let positions: Vec<[f64; 2]> =
+        (0..n).map(|_| [lcg(&mut seed) * 0.05, lcg(&mut seed) * 0.05]).collect();
+    let gaps: Vec<f64> = (0..n).map(|_| lcg(&mut seed) * 2e-4).collect();
+    let laws: Vec<SphereLaw> = (0..n).map(|_| ball(1e-3 + 4e-3 * lcg(&mut seed))).collect();
+    let problem = Problem::new(positions, gaps, laws, rubber()).unwrap();
+    let by_load = solve(&problem, Control::Load(150.0), &SolverOptions::default()).unwrap();
+    let by_approach =
+        solve(&problem, Control::Approach(by_load.approach), &SolverOptions::default()).unwrap();
+    assert!(rel(by_approach.total_force(), 150.0) < 1e-9);
+    for (a, b) in by_load.forces.iter().zip(&by_approach.forces) {
+        assert!((a - b).abs() <= 1e-9 * 150.0);
+    }
+    assert_satisfies_equations(&problem, &by_load, 1e-10);
+}
+
+#[test]
+fn asperities_out_of_contact_carry_exactly_zero() {
+    // The middle ball sits 1 mm lower than its neighbours: out of reach.
+    let problem = Problem::new(
+        vec![[-0.01, 0.0], [0.0, 0.0], [0.01, 0.0]],
+        vec![0.0, 1e-3, 0.0],
+        vec![ball(5e-3); 3],
+        rubber(),
+    )
+    .unwrap();
+    let s = solve(&problem, Control::Load(40.0), &SolverOptions::default()).unwrap();
+    assert_eq!(s.forces[1], 0.0);
+    assert!(!s.in_contact(1) && s.depths[1] < 0.0);
+    assert_eq!(s.contact_count(), 2);
+    assert!(rel(s.forces[0], 20.0) < 1e-10);
+}
+
+#[test]
+fn dense_random_layout_converges_from_a_cold_start() {
+    // 400 balls at 1.5 mm pitch with heights spread over 0.3 mm, pressed hard:
+    // strong coupling, many contacts entering during the solve.
+    let mut seed = 42;
+    let mut positions = Vec::new();
+    for j in 0..20 {
+        for i in 0..20 {
+            positions.push([
+                i as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
+                j as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
+            ]);
+        }
+    }
+    let n = positions.len();
+    let heights: Vec<f64> = (0..n).map(|_| 3e-4 * lcg(&mut seed)).collect();
+    let laws = (0..n).map(|_| ball(0.5e-3 + 2e-3 * lcg(&mut seed))).collect();
+    let problem = Problem::from_heights(positions, &heights, laws, rubber()).unwrap();
+    for load in [1.0, 50.0, 400.0] {
+        let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
+        assert!(rel(s.total_force(), load) < 1e-10);
+        assert!(s.contact_count() > 0 && s.contact_count() <= n);
+        assert_satisfies_equations(&problem, &s, 1e-9);
+    }
+}
+
+#[test]
+fn mixed_shapes_through_trait_objects() {
+    let m = rubber();
+    let laws: Vec<Box<dyn ContactLaw + Sync>> = vec![
+        Box::new(ball(5e-3)),
+        Box::new(PotentialLaw::cone(Cone::new(1.3).unwrap(), m)),
+    ];
+    let problem = Problem::new(vec![[0.0, 0.0], [0.01, 0.0]], vec![0.0, 0.0], laws, m).unwrap();
+    let s = solve(&problem, Control::Load(10.0), &SolverOptions::default()).unwrap();
+    assert!(rel(s.total_force(), 10.0) < 1e-10);
+    assert_satisfies_equations(&problem, &s, 1e-10);
+}
+
+#[test]
+fn warm_start_converges_in_fewer_iterations() {
+    let problem = paper_grid();
+    let opts = SolverOptions::default();
+    let cold = solve(&problem, Control::Load(400.0), &opts).unwrap();
+    let warm = solve_from(&problem, Control::Load(419.0), &opts, Some(&cold)).unwrap();
+    let direct = solve(&problem, Control::Load(419.0), &opts).unwrap();
+    for (a, b) in warm.forces.iter().zip(&direct.forces) {
+        assert!((a - b).abs() < 1e-9 * 419.0);
+    }
+    assert!(warm.iterations <= direct.iterations);
+}
+
+#[test]
+fn zero_load_and_short_approach_give_no_contact() {
+    let problem = paper_grid();
+    let s = solve(&problem, Control::Load(0.0), &SolverOptions::default()).unwrap();
+    assert!(s.forces.iter().all(|&p| p == 0.0));
+    let s = solve(&problem, Control::Approach(-1e-4), &SolverOptions::default()).unwrap();
+    assert_eq!(s.contact_count(), 0);
+}
+
+#[test]
+fn bad_input_is_refused_with_a_clear_error() {
+    let m = rubber();
+    let err = Problem::new(vec![[0.0, 0.0], [0.0, 0.0]], vec![0.0; 2], vec![ball(1e-3); 2], m)
+        .unwrap_err();
+    assert_eq!(err, SolveError::CoincidentSummits { first: 0, second: 1 });
+    assert!(Problem::new(vec![[f64::NAN, 0.0]], vec![0.0], vec![ball(1e-3)], m).is_err());
+    assert!(Problem::new(vec![[0.0, 0.0]], vec![f64::INFINITY], vec![ball(1e-3)], m).is_err());
+    assert!(Problem::new(vec![[0.0, 0.0]], vec![0.0, 1.0], vec![ball(1e-3)], m).is_err());
+    assert!(Problem::<SphereLaw>::new(vec![], vec![], vec![], m).is_err());
+    assert!(Problem::from_heights(vec![[0.0, 0.0]], &[f64::NAN], vec![ball(1e-3)], m).is_err());
+    let problem = paper_grid();
+    let opts = SolverOptions::default();
+    assert!(solve(&problem, Control::Load(-1.0), &opts).is_err());
+    assert!(solve(&problem, Control::Load(f64::NAN), &opts).is_err());
+    assert!(solve(&problem, Control::Approach(f64::INFINITY), &opts).is_err());
+    let message = solve(&problem, Control::Load(-1.0), &opts).unwrap_err().to_string();
+    assert!(message.contains("load"), "{message}");
+}
+
+#[test]
+fn non_convergence_is_reported_with_its_residual() {
+    let problem = paper_grid();
+    let opts = SolverOptions {
+        max_iterations: 1,
+        max_load_steps: 2,
+        ..SolverOptions::default()
+    };
+    match solve(&problem, Control::Load(500.0), &opts) {
+        Err(SolveError::NotConverged { iterations, residual, .. }) => {
+            assert!(iterations >= 1);
+            assert!(residual > 1e-11 && residual.is_finite());
+        }
+        other => panic!("expected non-convergence, got {other:?}"),
+    }
+}
+
+#[test]
+fn pressure_map_integrates_to_the_total_force() {
+    let problem = paper_grid();
+    let s = solve(&problem, Control::Load(500.0), &SolverOptions::default()).unwrap();
+    let contacts = s.local_contacts(&problem);
+    let grid = PressureGrid { x0: -0.03, y0: -0.03, dx: 5e-5, dy: 5e-5, nx: 1200, ny: 1200 };
+    let map = pressure_map(problem.positions(), &contacts, &grid).unwrap();
+    let total: f64 = map.iter().sum::<f64>() * grid.dx * grid.dy;
+    assert!(rel(total, 500.0) < 2e-3, "integrated {total}");
+    // Hertz radius of the corner ball from its force.
+    let (p, r) = (s.forces[0], 5e-3);
+    let a = (0.75 * p * r / rubber().reduced_modulus()).cbrt();
+    assert!(rel(contacts[0].radius, a) < 1e-12);
+}
