@@ -51,9 +51,7 @@ mod reference;
 
 pub use law::{ContactLaw, LawPoint, LocalContact, PressureProfile};
 pub use material::Material;
-pub use potential::{
-    C_CONE, C_HERTZ_EXACT, C_SNEDDON_EXACT, C_SPHERE, LocalRule, PotentialLaw,
-};
+pub use potential::{C_CONE, C_HERTZ_EXACT, C_SNEDDON_EXACT, C_SPHERE, LocalRule, PotentialLaw};
 pub use reference::{HertzLaw, SneddonLaw};
 
 /// What can go wrong when building a contact law.

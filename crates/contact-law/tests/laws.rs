@@ -31,7 +31,11 @@ fn sphere_law_with_hertz_constant_tends_to_hertz() {
     for ratio in [1e-8, 1e-7] {
         let d = ratio * r;
         let (p, h) = (law.evaluate(d), hertz.evaluate(d));
-        assert!(rel(p.force, h.force) < 1e-6, "δ/R = {ratio}: P off by {}", rel(p.force, h.force));
+        assert!(
+            rel(p.force, h.force) < 1e-6,
+            "δ/R = {ratio}: P off by {}",
+            rel(p.force, h.force)
+        );
         assert!(rel(p.stiffness, h.stiffness) < 1e-6);
     }
     // Away from the limit the exact cap departs from Hertz's paraboloid at O(δ/R).
@@ -70,7 +74,10 @@ fn stiffness_agrees_with_finite_differences() {
     let laws: Vec<Box<dyn ContactLaw>> = vec![
         Box::new(PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), m)),
         Box::new(PotentialLaw::cone(Cone::new(1.1).unwrap(), m)),
-        Box::new(PotentialLaw::paraboloid(EllipticParaboloid::new(2e-3, 9e-3).unwrap(), m)),
+        Box::new(PotentialLaw::paraboloid(
+            EllipticParaboloid::new(2e-3, 9e-3).unwrap(),
+            m,
+        )),
         Box::new(HertzLaw::new(3e-3, m).unwrap()),
         Box::new(SneddonLaw::new(0.7, m).unwrap()),
     ];

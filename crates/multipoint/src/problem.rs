@@ -56,7 +56,10 @@ impl<L: ContactLaw> Problem<L> {
             )));
         }
         if let Some((i, j)) = find_coincident(&positions) {
-            return Err(SolveError::CoincidentSummits { first: i, second: j });
+            return Err(SolveError::CoincidentSummits {
+                first: i,
+                second: j,
+            });
         }
         Ok(Self {
             positions,

@@ -38,8 +38,11 @@ impl Solution {
         residual: f64,
     ) -> Self {
         let mut u = vec![0.0; forces.len()];
-        Boussinesq::new(problem.positions(), problem.material().boussinesq_factor())
-            .apply(&forces, &mut u, Par::Seq);
+        Boussinesq::new(problem.positions(), problem.material().boussinesq_factor()).apply(
+            &forces,
+            &mut u,
+            Par::Seq,
+        );
         let depths = problem
             .gaps()
             .iter()

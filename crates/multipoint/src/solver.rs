@@ -75,11 +75,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
     }
     let mut ws = Workspace::new(n);
     let op = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
-    let first_touch = problem
-        .gaps()
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min);
+    let first_touch = problem.gaps().iter().copied().fold(f64::INFINITY, f64::min);
 
     let scale = match control {
         Control::Load(w) => w,
@@ -95,7 +91,14 @@ pub fn solve_from<L: ContactLaw + Sync>(
             Control::Load(_) => first_touch,
             Control::Approach(d0) => d0,
         };
-        return Ok(Solution::assemble(problem, vec![0.0; n], approach, 0, 0, 0.0));
+        return Ok(Solution::assemble(
+            problem,
+            vec![0.0; n],
+            approach,
+            0,
+            0,
+            0.0,
+        ));
     }
     let tol = options.tolerance * scale;
 
@@ -111,11 +114,18 @@ pub fn solve_from<L: ContactLaw + Sync>(
         d0 = target;
     }
     let mut iterations = 0;
-    let direct = newton(problem, &op, control, &mut p, &mut d0, tol, options, &mut ws);
+    let direct = newton(
+        problem, &op, control, &mut p, &mut d0, tol, options, &mut ws,
+    );
     iterations += direct.iterations;
     if direct.converged {
         return Ok(Solution::finish(
-            problem, p, d0, iterations, 1, direct.residual / scale,
+            problem,
+            p,
+            d0,
+            iterations,
+            1,
+            direct.residual / scale,
         ));
     }
 
@@ -193,9 +203,9 @@ pub fn solve_from<L: ContactLaw + Sync>(
 
 fn check_control(control: Control) -> Result<(), SolveError> {
     match control {
-        Control::Load(w) if !(w.is_finite() && w >= 0.0) => Err(SolveError::InvalidInput(
-            format!("imposed load must be finite and ≥ 0 N, got {w}"),
-        )),
+        Control::Load(w) if !(w.is_finite() && w >= 0.0) => Err(SolveError::InvalidInput(format!(
+            "imposed load must be finite and ≥ 0 N, got {w}"
+        ))),
         Control::Approach(d) if !d.is_finite() => Err(SolveError::InvalidInput(format!(
             "imposed approach must be finite, got {d}"
         ))),
@@ -204,8 +214,7 @@ fn check_control(control: Control) -> Result<(), SolveError> {
 }
 
 fn check_options(options: &SolverOptions) -> Result<(), SolveError> {
-    if !(options.tolerance.is_finite() && options.tolerance > 0.0) || options.max_iterations == 0
-    {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) || options.max_iterations == 0 {
         return Err(SolveError::InvalidInput(format!(
             "solver options need tolerance > 0 and max_iterations ≥ 1, got {} and {}",
             options.tolerance, options.max_iterations
@@ -519,7 +528,14 @@ fn solve_active(op: &Boussinesq<'_>, ws: &mut Workspace, na: usize, ncols: usize
         Default::default(),
     );
     let f = ws.matrix.as_ref().submatrix(0, 0, na, na);
-    lu::solve::solve_in_place(f, f, perm, ws.rhs.as_mut().submatrix_mut(0, 0, na, ncols), par, stack);
+    lu::solve::solve_in_place(
+        f,
+        f,
+        perm,
+        ws.rhs.as_mut().submatrix_mut(0, 0, na, ncols),
+        par,
+        stack,
+    );
 }
 
 fn fill_matrix(op: &Boussinesq<'_>, active: &[usize], stiffness: &[f64], matrix: &mut Mat<f64>) {

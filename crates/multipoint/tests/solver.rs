@@ -34,7 +34,9 @@ fn paper_grid() -> Problem<SphereLaw> {
 
 /// Deterministic pseudo-random numbers in [0, 1) (no RNG dependency needed).
 fn lcg(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     (*seed >> 11) as f64 / (1u64 << 53) as f64
 }
 
@@ -70,7 +72,12 @@ fn one_asperity_equals_its_law() {
     let s = solve(&problem, Control::Load(20.0), &SolverOptions::default()).unwrap();
     assert!(rel(s.forces[0], 20.0) < 1e-12);
     assert!(rel(law.force(s.approach), 20.0) < 1e-10);
-    let back = solve(&problem, Control::Approach(s.approach), &SolverOptions::default()).unwrap();
+    let back = solve(
+        &problem,
+        Control::Approach(s.approach),
+        &SolverOptions::default(),
+    )
+    .unwrap();
     assert!(rel(back.forces[0], 20.0) < 1e-10);
 }
 
@@ -116,14 +123,19 @@ fn paper_grid_is_symmetric_and_balanced() {
 fn load_and_displacement_control_agree() {
     let mut seed = 7;
     let n = 60;
-    let positions: Vec<[f64; 2]> =
-        (0..n).map(|_| [lcg(&mut seed) * 0.05, lcg(&mut seed) * 0.05]).collect();
+    let positions: Vec<[f64; 2]> = (0..n)
+        .map(|_| [lcg(&mut seed) * 0.05, lcg(&mut seed) * 0.05])
+        .collect();
     let gaps: Vec<f64> = (0..n).map(|_| lcg(&mut seed) * 2e-4).collect();
     let laws: Vec<SphereLaw> = (0..n).map(|_| ball(1e-3 + 4e-3 * lcg(&mut seed))).collect();
     let problem = Problem::new(positions, gaps, laws, rubber()).unwrap();
     let by_load = solve(&problem, Control::Load(150.0), &SolverOptions::default()).unwrap();
-    let by_approach =
-        solve(&problem, Control::Approach(by_load.approach), &SolverOptions::default()).unwrap();
+    let by_approach = solve(
+        &problem,
+        Control::Approach(by_load.approach),
+        &SolverOptions::default(),
+    )
+    .unwrap();
     assert!(rel(by_approach.total_force(), 150.0) < 1e-9);
     for (a, b) in by_load.forces.iter().zip(&by_approach.forces) {
         assert!((a - b).abs() <= 1e-9 * 150.0);
@@ -164,7 +176,9 @@ fn dense_random_layout_converges_from_a_cold_start() {
     }
     let n = positions.len();
     let heights: Vec<f64> = (0..n).map(|_| 3e-4 * lcg(&mut seed)).collect();
-    let laws = (0..n).map(|_| ball(0.5e-3 + 2e-3 * lcg(&mut seed))).collect();
+    let laws = (0..n)
+        .map(|_| ball(0.5e-3 + 2e-3 * lcg(&mut seed)))
+        .collect();
     let problem = Problem::from_heights(positions, &heights, laws, rubber()).unwrap();
     for load in [1.0, 50.0, 400.0] {
         let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
@@ -205,16 +219,32 @@ fn zero_load_and_short_approach_give_no_contact() {
     let problem = paper_grid();
     let s = solve(&problem, Control::Load(0.0), &SolverOptions::default()).unwrap();
     assert!(s.forces.iter().all(|&p| p == 0.0));
-    let s = solve(&problem, Control::Approach(-1e-4), &SolverOptions::default()).unwrap();
+    let s = solve(
+        &problem,
+        Control::Approach(-1e-4),
+        &SolverOptions::default(),
+    )
+    .unwrap();
     assert_eq!(s.contact_count(), 0);
 }
 
 #[test]
 fn bad_input_is_refused_with_a_clear_error() {
     let m = rubber();
-    let err = Problem::new(vec![[0.0, 0.0], [0.0, 0.0]], vec![0.0; 2], vec![ball(1e-3); 2], m)
-        .unwrap_err();
-    assert_eq!(err, SolveError::CoincidentSummits { first: 0, second: 1 });
+    let err = Problem::new(
+        vec![[0.0, 0.0], [0.0, 0.0]],
+        vec![0.0; 2],
+        vec![ball(1e-3); 2],
+        m,
+    )
+    .unwrap_err();
+    assert_eq!(
+        err,
+        SolveError::CoincidentSummits {
+            first: 0,
+            second: 1
+        }
+    );
     assert!(Problem::new(vec![[f64::NAN, 0.0]], vec![0.0], vec![ball(1e-3)], m).is_err());
     assert!(Problem::new(vec![[0.0, 0.0]], vec![f64::INFINITY], vec![ball(1e-3)], m).is_err());
     assert!(Problem::new(vec![[0.0, 0.0]], vec![0.0, 1.0], vec![ball(1e-3)], m).is_err());
@@ -225,7 +255,9 @@ fn bad_input_is_refused_with_a_clear_error() {
     assert!(solve(&problem, Control::Load(-1.0), &opts).is_err());
     assert!(solve(&problem, Control::Load(f64::NAN), &opts).is_err());
     assert!(solve(&problem, Control::Approach(f64::INFINITY), &opts).is_err());
-    let message = solve(&problem, Control::Load(-1.0), &opts).unwrap_err().to_string();
+    let message = solve(&problem, Control::Load(-1.0), &opts)
+        .unwrap_err()
+        .to_string();
     assert!(message.contains("load"), "{message}");
 }
 
@@ -238,7 +270,11 @@ fn non_convergence_is_reported_with_its_residual() {
         ..SolverOptions::default()
     };
     match solve(&problem, Control::Load(500.0), &opts) {
-        Err(SolveError::NotConverged { iterations, residual, .. }) => {
+        Err(SolveError::NotConverged {
+            iterations,
+            residual,
+            ..
+        }) => {
             assert!(iterations >= 1);
             assert!(residual > 1e-11 && residual.is_finite());
         }
@@ -251,7 +287,14 @@ fn pressure_map_integrates_to_the_total_force() {
     let problem = paper_grid();
     let s = solve(&problem, Control::Load(500.0), &SolverOptions::default()).unwrap();
     let contacts = s.local_contacts(&problem);
-    let grid = PressureGrid { x0: -0.03, y0: -0.03, dx: 5e-5, dy: 5e-5, nx: 1200, ny: 1200 };
+    let grid = PressureGrid {
+        x0: -0.03,
+        y0: -0.03,
+        dx: 5e-5,
+        dy: 5e-5,
+        nx: 1200,
+        ny: 1200,
+    };
     let map = pressure_map(problem.positions(), &contacts, &grid).unwrap();
     let total: f64 = map.iter().sum::<f64>() * grid.dx * grid.dy;
     assert!(rel(total, 500.0) < 2e-3, "integrated {total}");

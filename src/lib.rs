@@ -1,0 +1,12 @@
+#![doc = include_str!("../README.md")]
+
+/// Cap geometry of rigid asperities (`tyreroad-asperity`).
+pub use tyreroad_asperity as asperity;
+/// Reference full-grid BEM contact solver (`tyreroad-bem`).
+pub use tyreroad_bem as bem;
+/// Single-asperity contact laws (`tyreroad-contact-law`).
+pub use tyreroad_contact_law as contact_law;
+/// Pressure-film post-processing (`tyreroad-film`).
+pub use tyreroad_film as film;
+/// Multipoint contact solver (`tyreroad-multipoint`).
+pub use tyreroad_multipoint as multipoint;

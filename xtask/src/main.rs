@@ -1,0 +1,60 @@
+//! The tyreroad runner: `cargo xtask <command>`.
+//!
+//! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
+//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads.
+
+mod charts;
+mod output;
+mod scenario;
+mod statics;
+mod units;
+mod validate;
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "tyreroad runner", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the paper's 25-ball experiment and check it against references.
+    Validate(validate::ValidateArgs),
+    /// Solve a scenario file.
+    Run {
+        /// The scenario (TOML).
+        scenario: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "validation")]
+        out: PathBuf,
+    },
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Validate(args) => validate::run(&args),
+        Command::Run { scenario, out } => {
+            let text = std::fs::read_to_string(&scenario)
+                .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;
+            let s = scenario::Scenario::parse(&text, &scenario.display().to_string())?;
+            let (rows, runs) = statics::run_static(&s)?;
+            statics::print_table(&rows);
+            for r in &runs {
+                println!(
+                    "load {} N: Σ P = {:.9} N, δ0 = {:.6e} m, {} contacts, {} iterations",
+                    r.load, r.total, r.approach, r.contacts, r.iterations
+                );
+            }
+            for w in statics::write_static_outputs(&out, &s.name, &rows)? {
+                println!("written {w}");
+            }
+            Ok(())
+        }
+    }
+}
