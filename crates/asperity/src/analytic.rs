@@ -33,7 +33,7 @@ impl Sphere {
 impl CapGeometry for Sphere {
     fn cap(&self, depth: f64) -> CapMeasures {
         // `!(depth > 0)` also rejects NaN.
-        if !(depth > 0.0) {
+        if depth.is_nan() || depth <= 0.0 {
             return CapMeasures::EMPTY;
         }
         let r = self.radius;
@@ -95,7 +95,7 @@ impl Cone {
 
 impl CapGeometry for Cone {
     fn cap(&self, depth: f64) -> CapMeasures {
-        if !(depth > 0.0) {
+        if depth.is_nan() || depth <= 0.0 {
             return CapMeasures::EMPTY;
         }
         let t = self.half_angle.tan();
@@ -144,7 +144,7 @@ impl EllipticParaboloid {
 
 impl CapGeometry for EllipticParaboloid {
     fn cap(&self, depth: f64) -> CapMeasures {
-        if !(depth > 0.0) {
+        if depth.is_nan() || depth <= 0.0 {
             return CapMeasures::EMPTY;
         }
         let g = (self.radius_x * self.radius_y).sqrt();

@@ -1,0 +1,438 @@
+//! Caps tabulated on a grid of depths, interpolated smoothly and monotonically
+//! for fast evaluation inside the Newton solver.
+
+use crate::{CapGeometry, CapMeasures, GeometryError};
+
+/// Samples of cap measures on an increasing grid of depths: the serialised
+/// form of a [`TabulatedCap`].
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CapTable {
+    /// Depths `δₖ` (m), strictly increasing, `δ₀ > 0`.
+    pub depth: Vec<f64>,
+    /// `Ωₖ` (m³), positive, non-decreasing.
+    pub volume: Vec<f64>,
+    /// `Σₖ` (m²), positive, non-decreasing.
+    pub base_area: Vec<f64>,
+    /// `Γₖ` (m), positive (may decrease: patches merging, a crater closing).
+    pub perimeter: Vec<f64>,
+}
+
+/// A cap tabulated on a grid `δ₀ < … < δₙ₋₁`, smoothly and monotonically
+/// interpolated.
+///
+/// # Interpolation
+///
+/// - `Σ` and `Γ`: piecewise cubic Hermite with Fritsch–Carlson monotone
+///   slopes (PCHIP): slopes from the parabola through three neighbouring
+///   nodes (second-order accurate on any grid, so quadratics such as the
+///   sphere's `Σ` are reproduced exactly), set to 0 at a local extremum of the
+///   data and scaled into the Fritsch–Carlson region `α² + β² ≤ 9`. The
+///   interpolant is C¹, never leaves the range of two neighbouring nodes and
+///   is monotone wherever the data are: `Σ` is non-decreasing.
+/// - `Ω` is the integral of the `Σ` interpolant, from `Ω(0) = 0`. So
+///   `dΩ/dδ = Σ` holds exactly everywhere and `Ω` increases. Consequence: the
+///   tabulated `Ωₖ` are not interpolated; only `Ω₀` is used (it fixes the
+///   onset exponent, below), and the interpolant's `Ω(δₖ)` differs from the
+///   table's `Ωₖ` by the quadrature error of the `Σ` interpolant, reported by
+///   [`TabulatedCap::volume_mismatch`] (≈ 1e-9 relative or better at 200
+///   nodes for the analytic shapes).
+/// - `Σ'`, `Γ'`, `Σ''`, `Γ''` are the derivatives of the interpolants (`Σ''`,
+///   `Γ''` are piecewise linear and jump at nodes).
+///
+/// # Contact onset (`0 < δ < δ₀`)
+///
+/// A power law reaching 0 at `δ = 0`: `Σ = Σ₀ (δ/δ₀)^p`,
+/// `Ω = Σ δ/(p + 1)`, `Γ = Γ₀ (δ/δ₀)^q`, with
+/// `p = Σ₀δ₀/Ω₀ − 1` (so `Ω(δ₀) = Ω₀` exactly; `p = 1` for a paraboloid,
+/// → 1 for a sphere, `p = 2` for a cone or a mesh whose summit is a vertex)
+/// and `q = ln(Γ₁/Γ₀)/ln(δ₁/δ₀)` (clamped to `q ≥ 0`). The Hermite slopes at
+/// `δ₀` are those of the power laws, so `Σ` and `Γ` are C¹ at `δ₀` unless
+/// the Fritsch–Carlson limiter has to reduce them there. `p = 0` is a flat
+/// punch (`Σ` jumps to `Σ₀` at contact): still `Ω(0) = 0`, a law
+/// `P ∝ Ω²Γ^½/Σ^(7/4)` then starts as `δ`.
+///
+/// # Beyond the last node (`δ > δₙ₋₁ = max_depth`)
+///
+/// Vertical walls: `Σ`, `Γ` constant, `Ω` growing linearly with slope `Σ`,
+/// derivatives 0. [`CapGeometry::max_depth`] returns `δₙ₋₁`.
+///
+/// # Cost
+///
+/// One binary search on the grid and a cubic per measure; no allocation.
+///
+/// # Example
+///
+/// ```
+/// use tyreroad_asperity::{CapGeometry, Sphere, TabulatedCap};
+///
+/// let ball = Sphere::new(5e-3)?;
+/// let table = TabulatedCap::from_geometry(&ball, 5e-3, 200)?;
+/// let (exact, fast) = (ball.cap(0.1e-3), table.cap(0.1e-3));
+/// assert!((fast.volume - exact.volume).abs() < 1e-6 * exact.volume);
+/// assert!((fast.perimeter - exact.perimeter).abs() < 1e-4 * exact.perimeter);
+/// # Ok::<(), tyreroad_asperity::GeometryError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "CapTable", into = "CapTable")]
+pub struct TabulatedCap {
+    table: CapTable,
+    /// `Ω` of the interpolant at the nodes.
+    omega: Vec<f64>,
+    /// Hermite slopes of `Σ` at the nodes.
+    d_area: Vec<f64>,
+    /// Hermite slopes of `Γ` at the nodes.
+    d_perimeter: Vec<f64>,
+    /// Onset exponent of `Σ`.
+    p: f64,
+    /// Onset exponent of `Γ`.
+    q: f64,
+}
+
+impl TryFrom<CapTable> for TabulatedCap {
+    type Error = GeometryError;
+    fn try_from(table: CapTable) -> Result<Self, GeometryError> {
+        Self::new(table)
+    }
+}
+
+impl From<TabulatedCap> for CapTable {
+    fn from(t: TabulatedCap) -> Self {
+        t.table
+    }
+}
+
+/// Relative tolerance under which a decrease of `Ω` or `Σ` between two nodes
+/// is taken for rounding and flattened.
+const ROUNDING: f64 = 1e-12;
+
+impl TabulatedCap {
+    /// A tabulated cap from samples (see [`CapTable`] for the requirements).
+    ///
+    /// Refused with [`GeometryError::InvalidTable`]: fewer than 2 nodes,
+    /// columns of different lengths, non-finite values, `δ₀ ≤ 0` or depths not
+    /// strictly increasing, non-positive `Ω`, `Σ` or `Γ`, `Ω` or `Σ`
+    /// decreasing (decreases within `1e-12` of the column's maximum are taken
+    /// for rounding and flattened), or `Ω₀ > Σ₀δ₀` (impossible for a
+    /// non-decreasing `Σ` starting from 0).
+    pub fn new(mut table: CapTable) -> Result<Self, GeometryError> {
+        let bad = |m: String| Err(GeometryError::InvalidTable(m));
+        let n = table.depth.len();
+        if n < 2 {
+            return bad(format!("{n} node(s): at least 2 are needed"));
+        }
+        if table.volume.len() != n || table.base_area.len() != n || table.perimeter.len() != n {
+            return bad(format!(
+                "columns of different lengths: {n} depths, {} volumes, {} base areas, {} perimeters",
+                table.volume.len(),
+                table.base_area.len(),
+                table.perimeter.len()
+            ));
+        }
+        for (name, col) in [
+            ("depth", &table.depth),
+            ("volume", &table.volume),
+            ("base area", &table.base_area),
+            ("perimeter", &table.perimeter),
+        ] {
+            if let Some(k) = col.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                return bad(format!(
+                    "{name} at node {k} is {}: must be finite and > 0",
+                    col[k]
+                ));
+            }
+        }
+        if let Some(k) = (1..n).find(|&k| table.depth[k] <= table.depth[k - 1]) {
+            return bad(format!(
+                "depths must increase strictly: δ[{}] = {} ≥ δ[{k}] = {}",
+                k - 1,
+                table.depth[k - 1],
+                table.depth[k]
+            ));
+        }
+        for (name, col) in [
+            ("volume", &mut table.volume),
+            ("base area", &mut table.base_area),
+        ] {
+            let tol = ROUNDING * col.iter().fold(0.0f64, |m, v| m.max(*v));
+            for k in 1..n {
+                if col[k] < col[k - 1] {
+                    if col[k - 1] - col[k] <= tol {
+                        col[k] = col[k - 1];
+                    } else {
+                        return bad(format!(
+                            "{name} decreases from node {} ({}) to node {k} ({})",
+                            k - 1,
+                            col[k - 1],
+                            col[k]
+                        ));
+                    }
+                }
+            }
+        }
+        let (d0, s0, o0) = (table.depth[0], table.base_area[0], table.volume[0]);
+        if o0 > s0 * d0 * (1.0 + 1e-9) {
+            return bad(format!(
+                "Ω₀ = {o0} > Σ₀δ₀ = {}: the base area cannot have grown from 0 to Σ₀",
+                s0 * d0
+            ));
+        }
+        let p = (s0 * d0 / o0 - 1.0).max(0.0);
+        let (g0, g1, d1) = (table.perimeter[0], table.perimeter[1], table.depth[1]);
+        let q = ((g1 / g0).ln() / (d1 / d0).ln()).max(0.0);
+        let d_area = pchip_slopes(&table.depth, &table.base_area, p * s0 / d0);
+        let d_perimeter = pchip_slopes(&table.depth, &table.perimeter, q * g0 / d0);
+        let mut omega = Vec::with_capacity(n);
+        omega.push(s0 * d0 / (p + 1.0));
+        for k in 0..n - 1 {
+            let h = table.depth[k + 1] - table.depth[k];
+            let (y0, y1) = (table.base_area[k], table.base_area[k + 1]);
+            let (m0, m1) = (d_area[k], d_area[k + 1]);
+            let inc = h * (0.5 * (y0 + y1) + h * (m0 - m1) / 12.0);
+            omega.push(omega[k] + inc);
+        }
+        if !omega.iter().all(|v| v.is_finite()) {
+            return bad("the integrated volume is not finite".into());
+        }
+        Ok(Self {
+            table,
+            omega,
+            d_area,
+            d_perimeter,
+            p,
+            q,
+        })
+    }
+
+    /// Same as [`TabulatedCap::new`] from four columns.
+    pub fn from_samples(
+        depth: &[f64],
+        volume: &[f64],
+        base_area: &[f64],
+        perimeter: &[f64],
+    ) -> Result<Self, GeometryError> {
+        Self::new(CapTable {
+            depth: depth.to_vec(),
+            volume: volume.to_vec(),
+            base_area: base_area.to_vec(),
+            perimeter: perimeter.to_vec(),
+        })
+    }
+
+    /// Tabulate `geometry` on [`TabulatedCap::default_grid`]`(max_depth, nodes)`.
+    pub fn from_geometry(
+        geometry: &(impl CapGeometry + ?Sized),
+        max_depth: f64,
+        nodes: usize,
+    ) -> Result<Self, GeometryError> {
+        Self::from_geometry_on_grid(geometry, &Self::default_grid(max_depth, nodes)?)
+    }
+
+    /// Tabulate `geometry` at the given depths (strictly increasing, > 0).
+    pub fn from_geometry_on_grid(
+        geometry: &(impl CapGeometry + ?Sized),
+        depths: &[f64],
+    ) -> Result<Self, GeometryError> {
+        let caps: Vec<CapMeasures> = depths.iter().map(|&d| geometry.cap(d)).collect();
+        Self::new(CapTable {
+            depth: depths.to_vec(),
+            volume: caps.iter().map(|c| c.volume).collect(),
+            base_area: caps.iter().map(|c| c.base_area).collect(),
+            perimeter: caps.iter().map(|c| c.perimeter).collect(),
+        })
+    }
+
+    /// The default grid: `nodes ≥ 2` depths in geometric progression from
+    /// `1e-6·max_depth` to `max_depth` (ratio ≈ 1.072 between nodes at 200
+    /// nodes): the relative resolution is the same at every scale, which is
+    /// what the `δ^(1/2)`, `δ`, `δ²` behaviours of caps near contact onset
+    /// need, and below `1e-6·max_depth` the onset power law takes over.
+    pub fn default_grid(max_depth: f64, nodes: usize) -> Result<Vec<f64>, GeometryError> {
+        if !(max_depth.is_finite() && max_depth > 0.0) {
+            return Err(GeometryError::InvalidParameter {
+                name: "table max_depth",
+                value: max_depth,
+                requirement: "> 0",
+            });
+        }
+        if nodes < 2 {
+            return Err(GeometryError::InvalidParameter {
+                name: "table nodes",
+                value: nodes as f64,
+                requirement: "≥ 2",
+            });
+        }
+        let min = 1e-6 * max_depth;
+        let ratio = (max_depth / min).ln();
+        let last = (nodes - 1) as f64;
+        let mut grid: Vec<f64> = (0..nodes)
+            .map(|k| min * (ratio * k as f64 / last).exp())
+            .collect();
+        grid[nodes - 1] = max_depth;
+        Ok(grid)
+    }
+
+    /// The samples (after flattening rounding-level decreases).
+    pub fn table(&self) -> &CapTable {
+        &self.table
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.table.depth.len()
+    }
+
+    /// Always false: a table has at least 2 nodes.
+    pub fn is_empty(&self) -> bool {
+        self.table.depth.is_empty()
+    }
+
+    /// Onset exponents `(p, q)`: `Σ ∝ δ^p`, `Γ ∝ δ^q` below the first node.
+    pub fn onset_exponents(&self) -> (f64, f64) {
+        (self.p, self.q)
+    }
+
+    /// Largest relative difference between the tabulated `Ωₖ` and the
+    /// interpolant's `Ω(δₖ)` (the integral of the `Σ` interpolant): a check of
+    /// the table's consistency and of the grid's density.
+    pub fn volume_mismatch(&self) -> f64 {
+        self.table
+            .volume
+            .iter()
+            .zip(&self.omega)
+            .map(|(t, o)| (t - o).abs() / t)
+            .fold(0.0, f64::max)
+    }
+}
+
+impl CapGeometry for TabulatedCap {
+    fn cap(&self, depth: f64) -> CapMeasures {
+        if depth.is_nan() || depth <= 0.0 {
+            return CapMeasures::EMPTY;
+        }
+        let t = &self.table;
+        let x = &t.depth;
+        let n = x.len();
+        if depth < x[0] {
+            let r = depth / x[0];
+            let s = t.base_area[0] * r.powf(self.p);
+            let g = t.perimeter[0] * r.powf(self.q);
+            let (p, q) = (self.p, self.q);
+            return CapMeasures {
+                volume: s * depth / (p + 1.0),
+                base_area: s,
+                perimeter: g,
+                d_base_area: p * s / depth,
+                d_perimeter: q * g / depth,
+                d2_base_area: p * (p - 1.0) * s / (depth * depth),
+                d2_perimeter: q * (q - 1.0) * g / (depth * depth),
+            };
+        }
+        let last = n - 1;
+        if depth > x[last] {
+            let (s, g) = (t.base_area[last], t.perimeter[last]);
+            return CapMeasures {
+                volume: self.omega[last] + s * (depth - x[last]),
+                base_area: s,
+                perimeter: g,
+                ..CapMeasures::EMPTY
+            };
+        }
+        // x[k] ≤ depth < x[k+1], or k = last − 1 at depth = x[last].
+        let k = (x.partition_point(|&v| v <= depth) - 1).min(last - 1);
+        let h = x[k + 1] - x[k];
+        let u = (depth - x[k]) / h;
+        let (y0, y1) = (t.base_area[k], t.base_area[k + 1]);
+        let (m0, m1) = (self.d_area[k] * h, self.d_area[k + 1] * h);
+        let sig = hermite(u, y0, m0, y1, m1);
+        let (g0, g1) = (t.perimeter[k], t.perimeter[k + 1]);
+        let (n0, n1) = (self.d_perimeter[k] * h, self.d_perimeter[k + 1] * h);
+        let gam = hermite(u, g0, n0, g1, n1);
+        let (u2, u3, u4) = (u * u, u * u * u, u * u * u * u);
+        let vol = self.omega[k]
+            + h * (y0 * (u4 / 2.0 - u3 + u)
+                + m0 * (u4 / 4.0 - 2.0 * u3 / 3.0 + u2 / 2.0)
+                + y1 * (u3 - u4 / 2.0)
+                + m1 * (u4 / 4.0 - u3 / 3.0));
+        CapMeasures {
+            volume: vol,
+            base_area: sig[0],
+            perimeter: gam[0],
+            d_base_area: sig[1] / h,
+            d_perimeter: gam[1] / h,
+            d2_base_area: sig[2] / (h * h),
+            d2_perimeter: gam[2] / (h * h),
+        }
+    }
+
+    fn max_depth(&self) -> f64 {
+        self.table.depth[self.table.depth.len() - 1]
+    }
+}
+
+/// Cubic Hermite on `u ∈ [0, 1]` with end values `y0`, `y1` and end slopes
+/// `m0`, `m1` (per unit `u`): value and first two `u`-derivatives.
+#[inline]
+fn hermite(u: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> [f64; 3] {
+    let u2 = u * u;
+    let u3 = u2 * u;
+    let v = y0 * (2.0 * u3 - 3.0 * u2 + 1.0)
+        + m0 * (u3 - 2.0 * u2 + u)
+        + y1 * (3.0 * u2 - 2.0 * u3)
+        + m1 * (u3 - u2);
+    let d = y0 * (6.0 * u2 - 6.0 * u)
+        + m0 * (3.0 * u2 - 4.0 * u + 1.0)
+        + y1 * (6.0 * u - 6.0 * u2)
+        + m1 * (3.0 * u2 - 2.0 * u);
+    let dd =
+        y0 * (12.0 * u - 6.0) + m0 * (6.0 * u - 4.0) + y1 * (6.0 - 12.0 * u) + m1 * (6.0 * u - 2.0);
+    [v, d, dd]
+}
+
+/// Fritsch–Carlson monotone slopes at the nodes, with slope `first` imposed
+/// at node 0 (before limiting).
+fn pchip_slopes(x: &[f64], y: &[f64], first: f64) -> Vec<f64> {
+    let n = x.len();
+    let h: Vec<f64> = (0..n - 1).map(|k| x[k + 1] - x[k]).collect();
+    let del: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();
+    let mut m = vec![0.0; n];
+    m[0] = first;
+    for k in 1..n - 1 {
+        m[k] = if del[k - 1] * del[k] <= 0.0 {
+            0.0
+        } else {
+            (h[k] * del[k - 1] + h[k - 1] * del[k]) / (h[k - 1] + h[k])
+        };
+    }
+    m[n - 1] = if n >= 3 {
+        let (ha, hb) = (h[n - 3], h[n - 2]);
+        let (da, db) = (del[n - 3], del[n - 2]);
+        ((2.0 * hb + ha) * db - hb * da) / (ha + hb)
+    } else {
+        del[0]
+    };
+    for k in 0..n - 1 {
+        let d = del[k];
+        if d == 0.0 {
+            m[k] = 0.0;
+            m[k + 1] = 0.0;
+            continue;
+        }
+        let mut a = m[k] / d;
+        let mut b = m[k + 1] / d;
+        if a < 0.0 {
+            a = 0.0;
+        }
+        if b < 0.0 {
+            b = 0.0;
+        }
+        let s = a * a + b * b;
+        if s > 9.0 {
+            let tau = 3.0 / s.sqrt();
+            a *= tau;
+            b *= tau;
+        }
+        m[k] = a * d;
+        m[k + 1] = b * d;
+    }
+    m
+}
