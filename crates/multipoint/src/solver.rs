@@ -232,11 +232,12 @@ fn uncoupled_start<L: ContactLaw>(
     u: &[f64],
 ) -> (Vec<f64>, f64) {
     let (laws, gaps) = (problem.laws(), problem.gaps());
-    let total = |d0: f64| -> f64 {
+    // Σ P_i^law and Σ k_i at approach d0.
+    let total = |d0: f64| -> (f64, f64) {
         laws.iter()
             .zip(gaps.iter().zip(u))
-            .map(|(law, (h, u))| law.force(d0 - h - u))
-            .sum()
+            .map(|(law, (h, u))| law.evaluate(d0 - h - u))
+            .fold((0.0, 0.0), |(p, k), l| (p + l.force, k + l.stiffness))
     };
     let d0 = match control {
         Control::Approach(d0) => d0,
@@ -252,22 +253,31 @@ fn uncoupled_start<L: ContactLaw>(
                 .map(|(h, u)| h + u - lo0)
                 .fold(0.0, f64::max);
             let mut width = (spread * 1e-3).max(lo0.abs() * 1e-9).max(1e-12);
-            while total(lo0 + width) < w && width < 1e3 {
+            while total(lo0 + width).0 < w && width < 1e3 {
                 width *= 2.0;
             }
+            // Newton safeguarded by the bracket [lo, hi]; a start point only
+            // needs a few digits, the coupled Newton refines it.
             let (mut lo, mut hi) = (lo0, lo0 + width);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if total(mid) < w {
-                    lo = mid;
+            let mut x = hi;
+            for _ in 0..100 {
+                let (f, k) = total(x);
+                if f < w {
+                    lo = x;
                 } else {
-                    hi = mid;
+                    hi = x;
                 }
-                if hi - lo <= 1e-15 * hi.abs().max(width) {
+                if (f - w).abs() <= 1e-12 * w || hi - lo <= 1e-12 * hi.abs().max(width) {
                     break;
                 }
+                let newton = x - (f - w) / k;
+                x = if k > 0.0 && newton > lo && newton < hi {
+                    newton
+                } else {
+                    0.5 * (lo + hi)
+                };
             }
-            0.5 * (lo + hi)
+            x
         }
     };
     let p = laws
