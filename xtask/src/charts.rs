@@ -7,6 +7,16 @@ use plotters::prelude::*;
 
 use crate::output::write_atomic;
 
+/// Distinguishable line colours (Okabe–Ito), in series order.
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(0, 114, 178),
+    RGBColor(230, 159, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(213, 94, 0),
+    RGBColor(204, 121, 167),
+    RGBColor(86, 180, 233),
+];
+
 /// One named series of points.
 pub struct Series {
     /// Legend text.
@@ -58,7 +68,7 @@ pub fn line_chart(
             .draw()
             .map_err(|e| anyhow!("{e}"))?;
         for (k, s) in series.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
+            let colour = COLOURS[k % COLOURS.len()].to_rgba();
             chart
                 .draw_series(LineSeries::new(
                     s.points.iter().copied(),
@@ -77,7 +87,7 @@ pub fn line_chart(
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
+            .position(SeriesLabelPosition::LowerRight)
             .draw()
             .map_err(|e| anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow!("{e}"))?;

@@ -1,9 +1,12 @@
 //! The tyreroad runner: `cargo xtask <command>`.
 //!
 //! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
-//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads.
+//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads;
+//! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
+//!   pressure-film scan analysed print by print.
 
 mod charts;
+mod film_cmd;
 mod output;
 mod scenario;
 mod statics;
@@ -34,11 +37,14 @@ enum Command {
         #[arg(long, default_value = "validation")]
         out: PathBuf,
     },
+    /// Analyse a pressure-film scan: per-print forces, areas, radii.
+    Film(Box<film_cmd::FilmArgs>),
 }
 
 fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Validate(args) => validate::run(&args),
+        Command::Film(args) => film_cmd::run(&args),
         Command::Run { scenario, out } => {
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;

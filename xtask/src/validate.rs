@@ -70,6 +70,11 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     checks.extend(symmetry_checks(&rows));
     checks.push(hertz_check(&scenario)?);
 
+    if args.scenario.is_none() {
+        println!();
+        print!("{}", crate::film_cmd::synthetic_table(&film_rows(&rows), None)?);
+    }
+
     let written = write_static_outputs(&args.out, &scenario.name, &rows)?;
     println!("\nChecks:");
     let mut failed = 0;
@@ -90,6 +95,19 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         bail!("{failed} validation check(s) failed");
     }
     Ok(())
+}
+
+fn film_rows(rows: &[StaticRow]) -> Vec<tyreroad_film::ModelRow> {
+    rows.iter()
+        .map(|r| tyreroad_film::ModelRow {
+            load_n: r.load,
+            indenter: r.id,
+            x_m: r.x,
+            y_m: r.y,
+            force_n: r.force,
+            radius_m: r.radius,
+        })
+        .collect()
 }
 
 /// Forces must be invariant under every mirror of the layout that maps

@@ -1,0 +1,127 @@
+//! The error type of the film layer.
+
+use std::path::PathBuf;
+
+/// What can go wrong in film post-processing. Every variant names the problem;
+/// user input never panics.
+#[derive(Debug, thiserror::Error)]
+pub enum FilmError {
+    /// A calibration curve whose response does not vary strictly monotonically
+    /// with pressure (it cannot be inverted).
+    #[error(
+        "non-monotone calibration: {response} {r0} at {p0} Pa then {r1} at {p1} Pa \
+         (points {i} and {j} after sorting by pressure; the response must vary strictly \
+         one way with pressure)"
+    )]
+    NonMonotoneCalibration {
+        /// Name of the response ("density" or "grey").
+        response: &'static str,
+        /// Index of the first offending point (sorted by pressure).
+        i: usize,
+        /// Index of the second offending point.
+        j: usize,
+        /// Pressure of the first point, Pa.
+        p0: f64,
+        /// Response at the first point.
+        r0: f64,
+        /// Pressure of the second point, Pa.
+        p1: f64,
+        /// Response at the second point.
+        r1: f64,
+    },
+    /// A calibration (or other table) is unusable for another reason.
+    #[error("invalid calibration: {0}")]
+    InvalidCalibration(String),
+    /// A parameter is out of its domain.
+    #[error("invalid {name}: {value} (must be {requirement})")]
+    InvalidParameter {
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must satisfy.
+        requirement: &'static str,
+    },
+    /// A file could not be read or written.
+    #[error("cannot access {path}: {reason}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        reason: std::io::Error,
+    },
+    /// An image could not be decoded or encoded.
+    #[error("unreadable image {path}: {message}")]
+    Image {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// What the decoder said.
+        message: String,
+    },
+    /// A CSV file is malformed.
+    #[error("{path}, line {line}: {message}")]
+    Csv {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// No pixel size: neither given nor readable from the file's resolution.
+    #[error("pixel size unknown: the image carries no resolution; give the DPI or the pixel size")]
+    PixelSizeUnknown,
+    /// The scan holds no print at all.
+    #[error("no print found in the scan (threshold grey {threshold:.4}, {reacted} reacted pixels)")]
+    NoPrints {
+        /// The grey threshold used.
+        threshold: f64,
+        /// Number of pixels darker than the threshold.
+        reacted: usize,
+    },
+    /// An indenter of the layout has no print near its expected position.
+    #[error(
+        "print not found for indenter {indenter}: nothing within {tolerance_m:.3e} m of \
+         ({x_m:.4e}, {y_m:.4e}) m"
+    )]
+    PrintNotFound {
+        /// Indenter number.
+        indenter: u32,
+        /// Expected position, m (film frame).
+        x_m: f64,
+        /// Expected position, m (film frame).
+        y_m: f64,
+        /// Search radius, m.
+        tolerance_m: f64,
+    },
+    /// The layout does not fit the prints (or the model rows).
+    #[error("layout mismatch: {0}")]
+    LayoutMismatch(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, FilmError>;
+
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(FilmError::InvalidParameter {
+            name,
+            value,
+            requirement: "finite and > 0",
+        })
+    }
+}
+
+pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(FilmError::InvalidParameter {
+            name,
+            value,
+            requirement: "finite and >= 0",
+        })
+    }
+}

@@ -1,0 +1,286 @@
+//! Scanned films: reading PNG and TIFF (8 or 16 bit, grey or RGB), the
+//! channel analysed, and the pixel size.
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use image::{DynamicImage, ImageFormat};
+
+use crate::error::{FilmError, Result, check_positive};
+
+/// Which channel of a colour scan is analysed.
+///
+/// Prescale prints are magenta. A magenta dye absorbs green light (roughly
+/// 500–570 nm) and reflects red and blue, so as the colour density grows the
+/// green channel darkens most while red and blue barely change: the green
+/// channel carries nearly all of the signal and has the widest dynamic range.
+/// [`Channel::Auto`] therefore uses green for RGB scans and the single
+/// channel of grey scans (a grey scan of a magenta print is a weighted mix in
+/// which green dominates as well). Alpha is ignored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Channel {
+    /// Green for colour images, the grey channel for grey images.
+    #[default]
+    Auto,
+    /// The red channel (grey channel for grey images).
+    Red,
+    /// The green channel (grey channel for grey images).
+    Green,
+    /// The blue channel (grey channel for grey images).
+    Blue,
+    /// Luma, Rec. 709 weights `0.2126 R + 0.7152 G + 0.0722 B`.
+    Luma,
+}
+
+/// A scanned film: one channel as normalised grey levels in `[0, 1]`
+/// (0 = black, 1 = full scale), row-major from the top-left pixel, and the
+/// pixel size when known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scan {
+    width: usize,
+    height: usize,
+    grey: Vec<f32>,
+    pixel_size: Option<f64>,
+    bit_depth: u8,
+}
+
+impl Scan {
+    /// A scan from normalised grey levels (row-major, `width × height`
+    /// values). `bit_depth` is the quantisation of the source (8, 16, or 32
+    /// for floating point), used only for reporting and histogram bins.
+    pub fn from_grey(
+        width: usize,
+        height: usize,
+        grey: Vec<f32>,
+        pixel_size: Option<f64>,
+        bit_depth: u8,
+    ) -> Result<Self> {
+        if width == 0 || height == 0 || grey.len() != width * height {
+            return Err(FilmError::Image {
+                path: PathBuf::from("<memory>"),
+                message: format!("{} grey values for a {width} × {height} image", grey.len()),
+            });
+        }
+        if let Some(s) = pixel_size {
+            check_positive("pixel size", s)?;
+        }
+        Ok(Self {
+            width,
+            height,
+            grey,
+            pixel_size,
+            bit_depth,
+        })
+    }
+
+    /// Reads a PNG or TIFF file (format from its content), taking `channel`.
+    /// The pixel size comes from the file's resolution (PNG `pHYs` in pixels
+    /// per metre, TIFF `XResolution`/`ResolutionUnit` in inch or cm) when it
+    /// has one; override it with [`Scan::with_pixel_size`] or
+    /// [`Scan::with_dpi`].
+    pub fn open(path: &Path, channel: Channel) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|reason| FilmError::Io {
+            path: path.to_path_buf(),
+            reason,
+        })?;
+        Self::decode(&bytes, channel, path)
+    }
+
+    /// Decodes an in-memory PNG or TIFF (`source` names it in errors).
+    pub fn decode(bytes: &[u8], channel: Channel, source: &Path) -> Result<Self> {
+        let img_err = |message: String| FilmError::Image {
+            path: source.to_path_buf(),
+            message,
+        };
+        let format = image::guess_format(bytes).map_err(|e| img_err(e.to_string()))?;
+        let pixel_size = match format {
+            ImageFormat::Png => png_pixel_size(bytes),
+            ImageFormat::Tiff => tiff_pixel_size(bytes),
+            other => {
+                return Err(img_err(format!(
+                    "unsupported format {other:?} (PNG or TIFF expected)"
+                )));
+            }
+        };
+        let img = image::load_from_memory_with_format(bytes, format)
+            .map_err(|e| img_err(e.to_string()))?;
+        let (grey, bit_depth) = extract_channel(&img, channel).map_err(img_err)?;
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        Self::from_grey(w, h, grey, pixel_size, bit_depth).map_err(|e| match e {
+            FilmError::Image { message, .. } => img_err(message),
+            other => other,
+        })
+    }
+
+    /// Sets the pixel size (m).
+    pub fn with_pixel_size(mut self, pixel_size: f64) -> Result<Self> {
+        self.pixel_size = Some(check_positive("pixel size", pixel_size)?);
+        Ok(self)
+    }
+
+    /// Sets the pixel size from the scan resolution in dots per inch
+    /// (`pixel = 0.0254 m / dpi`).
+    pub fn with_dpi(self, dpi: f64) -> Result<Self> {
+        let dpi = check_positive("dpi", dpi)?;
+        self.with_pixel_size(0.0254 / dpi)
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Normalised grey levels, row-major.
+    pub fn grey(&self) -> &[f32] {
+        &self.grey
+    }
+
+    /// Grey level at column `col`, row `row` (`None` outside).
+    pub fn get(&self, col: usize, row: usize) -> Option<f32> {
+        (col < self.width && row < self.height).then(|| self.grey[row * self.width + col])
+    }
+
+    /// Pixel size (m), if known.
+    pub fn pixel_size(&self) -> Option<f64> {
+        self.pixel_size
+    }
+
+    /// Bit depth of the source (8, 16, or 32 for float data).
+    pub fn bit_depth(&self) -> u8 {
+        self.bit_depth
+    }
+
+    /// Writes the scan as a 16-bit (or 8-bit when `bit_depth` is 8) grey PNG.
+    pub fn to_image(&self) -> DynamicImage {
+        let (w, h) = (self.width as u32, self.height as u32);
+        if self.bit_depth == 8 {
+            let data: Vec<u8> = self
+                .grey
+                .iter()
+                .map(|&g| (g.clamp(0.0, 1.0) * 255.0).round() as u8)
+                .collect();
+            image::GrayImage::from_raw(w, h, data)
+                .map(DynamicImage::ImageLuma8)
+                .unwrap_or_else(|| DynamicImage::new_luma8(w, h))
+        } else {
+            let data: Vec<u16> = self
+                .grey
+                .iter()
+                .map(|&g| (g.clamp(0.0, 1.0) * 65535.0).round() as u16)
+                .collect();
+            image::ImageBuffer::from_raw(w, h, data)
+                .map(DynamicImage::ImageLuma16)
+                .unwrap_or_else(|| DynamicImage::new_luma16(w, h))
+        }
+    }
+}
+
+fn extract_channel(
+    img: &DynamicImage,
+    channel: Channel,
+) -> std::result::Result<(Vec<f32>, u8), String> {
+    // Weights on (R, G, B) for colour images.
+    let w: [f32; 3] = match channel {
+        Channel::Auto | Channel::Green => [0.0, 1.0, 0.0],
+        Channel::Red => [1.0, 0.0, 0.0],
+        Channel::Blue => [0.0, 0.0, 1.0],
+        Channel::Luma => [0.2126, 0.7152, 0.0722],
+    };
+    let rgb = |px: &[f32]| w[0] * px[0] + w[1] * px[1] + w[2] * px[2];
+    Ok(match img {
+        DynamicImage::ImageLuma8(b) => (b.as_raw().iter().map(|&v| v as f32 / 255.0).collect(), 8),
+        DynamicImage::ImageLumaA8(b) => (
+            b.as_raw()
+                .chunks_exact(2)
+                .map(|p| p[0] as f32 / 255.0)
+                .collect(),
+            8,
+        ),
+        DynamicImage::ImageLuma16(b) => {
+            (b.as_raw().iter().map(|&v| v as f32 / 65535.0).collect(), 16)
+        }
+        DynamicImage::ImageLumaA16(b) => (
+            b.as_raw()
+                .chunks_exact(2)
+                .map(|p| p[0] as f32 / 65535.0)
+                .collect(),
+            16,
+        ),
+        DynamicImage::ImageRgb8(b) => (
+            b.as_raw()
+                .chunks_exact(3)
+                .map(|p| rgb(&[p[0] as f32, p[1] as f32, p[2] as f32]) / 255.0)
+                .collect(),
+            8,
+        ),
+        DynamicImage::ImageRgba8(b) => (
+            b.as_raw()
+                .chunks_exact(4)
+                .map(|p| rgb(&[p[0] as f32, p[1] as f32, p[2] as f32]) / 255.0)
+                .collect(),
+            8,
+        ),
+        DynamicImage::ImageRgb16(b) => (
+            b.as_raw()
+                .chunks_exact(3)
+                .map(|p| rgb(&[p[0] as f32, p[1] as f32, p[2] as f32]) / 65535.0)
+                .collect(),
+            16,
+        ),
+        DynamicImage::ImageRgba16(b) => (
+            b.as_raw()
+                .chunks_exact(4)
+                .map(|p| rgb(&[p[0] as f32, p[1] as f32, p[2] as f32]) / 65535.0)
+                .collect(),
+            16,
+        ),
+        other => {
+            return Err(format!(
+                "unsupported pixel type {:?} (8- or 16-bit grey or RGB expected)",
+                other.color()
+            ));
+        }
+    })
+}
+
+/// Pixel size from a PNG's pHYs chunk (unit metre only).
+fn png_pixel_size(bytes: &[u8]) -> Option<f64> {
+    let decoder = png::Decoder::new(Cursor::new(bytes));
+    let reader = decoder.read_info().ok()?;
+    let dims = reader.info().pixel_dims?;
+    if dims.unit == png::Unit::Meter && dims.xppu > 0 {
+        Some(1.0 / dims.xppu as f64)
+    } else {
+        None
+    }
+}
+
+/// Pixel size from a TIFF's XResolution and ResolutionUnit (2 = inch,
+/// 3 = centimetre; 1 = none gives no size).
+fn tiff_pixel_size(bytes: &[u8]) -> Option<f64> {
+    use tiff::decoder::ifd::Value;
+    use tiff::tags::Tag;
+    let mut dec = tiff::decoder::Decoder::new(Cursor::new(bytes)).ok()?;
+    let res = match dec.find_tag(Tag::XResolution).ok()?? {
+        Value::Rational(n, d) if d != 0 => n as f64 / d as f64,
+        Value::Double(v) => v,
+        Value::Float(v) => v as f64,
+        _ => return None,
+    };
+    let unit = dec
+        .find_tag_unsigned::<u16>(Tag::ResolutionUnit)
+        .ok()
+        .flatten()
+        .unwrap_or(2);
+    let per_metre = match unit {
+        2 => res / 0.0254,
+        3 => res / 0.01,
+        _ => return None,
+    };
+    (per_metre.is_finite() && per_metre > 0.0).then(|| 1.0 / per_metre)
+}
