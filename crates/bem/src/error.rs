@@ -1,0 +1,44 @@
+//! The error type of the crate.
+
+/// Everything that can go wrong in this crate.
+///
+/// User input never panics: a bad grid, height map, material, option or
+/// control value is reported as [`BemError::InvalidInput`] with a message
+/// naming the offending quantity; a solve that does not reach the requested
+/// tolerance is reported as [`BemError::NotConverged`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BemError {
+    /// An input value is out of its valid range (the message names it).
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+    /// The constrained conjugate-gradient iteration stopped before reaching
+    /// the tolerance.
+    #[error(
+        "BEM contact solve did not converge: residual {residual:e} > tolerance {tolerance:e} after {iterations} iterations"
+    )]
+    NotConverged {
+        /// Iterations performed.
+        iterations: usize,
+        /// Relative complementarity residual reached (see [`crate::BemSolution::residual`]).
+        residual: f64,
+        /// Tolerance that was asked for.
+        tolerance: f64,
+    },
+    /// The FFT library reported an error (a bug: buffer sizes are fixed at
+    /// construction).
+    #[error("FFT failure: {0}")]
+    Fft(String),
+}
+
+impl BemError {
+    pub(crate) fn invalid(msg: impl Into<String>) -> Self {
+        Self::InvalidInput(msg.into())
+    }
+}
+
+impl From<realfft::FftError> for BemError {
+    fn from(e: realfft::FftError) -> Self {
+        Self::Fft(e.to_string())
+    }
+}
