@@ -3,13 +3,17 @@
 //! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
 //! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads;
 //! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
-//!   pressure-film scan analysed print by print.
+//!   pressure-film scan analysed print by print;
+//! - `texture info FILE` / `texture synth ...`: road texture files.
 
+mod bem_validation;
 mod charts;
 mod film_cmd;
 mod output;
+mod pressure_image;
 mod scenario;
 mod statics;
+mod texture_cmd;
 mod units;
 mod validate;
 
@@ -39,12 +43,18 @@ enum Command {
     },
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
+    /// Road textures: `info FILE` (Sq, MPD, ...) and `synth ... --out FILE.x3p`.
+    Texture {
+        #[command(subcommand)]
+        cmd: texture_cmd::TextureCommand,
+    },
 }
 
 fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Validate(args) => validate::run(&args),
         Command::Film(args) => film_cmd::run(&args),
+        Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Run { scenario, out } => {
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;

@@ -1,0 +1,280 @@
+//! The height map: a regular grid of heights with a validity mask.
+
+use crate::error::{TextureError, check_positive};
+
+/// Most grid points a map may hold (2³⁰ ≈ 1.07e9): larger sizes read from a
+/// file are refused before anything is allocated.
+pub const MAX_POINTS: usize = 1 << 30;
+
+/// A road texture sampled on a regular grid.
+///
+/// Point `(i, j)` (`i < nx` along x, the driving direction; `j < ny` along
+/// y) lies at `x = i·dx`, `y = j·dy` and is stored at index `j·nx + i`
+/// (row-major, one row per profile along x). Heights are in metres.
+///
+/// # Invariants
+///
+/// - `nx ≥ 1`, `ny ≥ 1`, `nx·ny ≤` [`MAX_POINTS`];
+/// - `dx`, `dy` finite and `> 0` (m);
+/// - `heights.len() == valid.len() == nx·ny`;
+/// - every valid height is finite; an invalid (missing) point stores NaN.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightMap {
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    dy: f64,
+    heights: Vec<f64>,
+    valid: Vec<bool>,
+}
+
+impl HeightMap {
+    /// A map whose points are all valid; every height must be finite.
+    pub fn new(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        heights: Vec<f64>,
+    ) -> Result<Self, TextureError> {
+        let valid = vec![true; heights.len()];
+        Self::with_mask(nx, ny, dx, dy, heights, valid)
+    }
+
+    /// A map where non-finite heights (NaN, ±∞) mark invalid points.
+    pub fn from_nan_heights(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        heights: Vec<f64>,
+    ) -> Result<Self, TextureError> {
+        let valid = heights.iter().map(|h| h.is_finite()).collect();
+        Self::with_mask(nx, ny, dx, dy, heights, valid)
+    }
+
+    /// A map with an explicit validity mask (`true` = measured). Heights at
+    /// invalid points are ignored (stored as NaN); heights at valid points
+    /// must be finite.
+    pub fn with_mask(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        mut heights: Vec<f64>,
+        valid: Vec<bool>,
+    ) -> Result<Self, TextureError> {
+        check_size(nx, ny)?;
+        check_positive("dx", dx)?;
+        check_positive("dy", dy)?;
+        let n = nx * ny;
+        if heights.len() != n {
+            return Err(TextureError::InvalidMap(format!(
+                "{} heights for a {nx} × {ny} grid (expected {n})",
+                heights.len()
+            )));
+        }
+        if valid.len() != n {
+            return Err(TextureError::InvalidMap(format!(
+                "validity mask of {} points for a {nx} × {ny} grid (expected {n})",
+                valid.len()
+            )));
+        }
+        for (k, (h, v)) in heights.iter_mut().zip(&valid).enumerate() {
+            if *v {
+                if !h.is_finite() {
+                    return Err(TextureError::InvalidMap(format!(
+                        "height {h} at valid point ({}, {}) is not finite",
+                        k % nx,
+                        k / nx
+                    )));
+                }
+            } else {
+                *h = f64::NAN;
+            }
+        }
+        Ok(Self {
+            nx,
+            ny,
+            dx,
+            dy,
+            heights,
+            valid,
+        })
+    }
+
+    /// A map sampled from `f(x, y)` at `x = i·dx`, `y = j·dy`; non-finite
+    /// values are refused.
+    pub fn from_fn(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        f: impl Fn(f64, f64) -> f64,
+    ) -> Result<Self, TextureError> {
+        check_size(nx, ny)?;
+        let mut h = Vec::with_capacity(nx * ny);
+        for j in 0..ny {
+            for i in 0..nx {
+                h.push(f(i as f64 * dx, j as f64 * dy));
+            }
+        }
+        Self::new(nx, ny, dx, dy, h)
+    }
+
+    /// Number of points along x.
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+    /// Number of points along y (number of profiles).
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+    /// Spacing along x (m).
+    pub fn dx(&self) -> f64 {
+        self.dx
+    }
+    /// Spacing along y (m).
+    pub fn dy(&self) -> f64 {
+        self.dy
+    }
+    /// Heights (m), row-major (`j·nx + i`); NaN at invalid points.
+    pub fn heights(&self) -> &[f64] {
+        &self.heights
+    }
+    /// Validity mask, row-major; `true` = measured.
+    pub fn valid(&self) -> &[bool] {
+        &self.valid
+    }
+    /// Index of point `(i, j)`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        j * self.nx + i
+    }
+    /// Height at `(i, j)`, `None` if out of range or invalid.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> Option<f64> {
+        if i < self.nx && j < self.ny {
+            let k = self.index(i, j);
+            self.valid[k].then_some(self.heights[k])
+        } else {
+            None
+        }
+    }
+    /// Profile `j` (heights along x), NaN at invalid points.
+    pub fn row(&self, j: usize) -> &[f64] {
+        &self.heights[j * self.nx..(j + 1) * self.nx]
+    }
+    /// Number of valid points.
+    pub fn valid_count(&self) -> usize {
+        self.valid.iter().filter(|v| **v).count()
+    }
+    /// Length along x, `(nx − 1)·dx` (m).
+    pub fn length_x(&self) -> f64 {
+        (self.nx - 1) as f64 * self.dx
+    }
+    /// Length along y, `(ny − 1)·dy` (m).
+    pub fn length_y(&self) -> f64 {
+        (self.ny - 1) as f64 * self.dy
+    }
+
+    fn valid_heights(&self) -> impl Iterator<Item = f64> + '_ {
+        self.heights
+            .iter()
+            .zip(&self.valid)
+            .filter(|(_, v)| **v)
+            .map(|(h, _)| *h)
+    }
+
+    /// Mean height over valid points (`None` if none is valid).
+    pub fn mean(&self) -> Option<f64> {
+        let n = self.valid_count();
+        (n > 0).then(|| self.valid_heights().sum::<f64>() / n as f64)
+    }
+
+    /// `Sq`: root mean square of the heights about their mean, over valid
+    /// points (`None` if none is valid).
+    pub fn rms(&self) -> Option<f64> {
+        let m = self.mean()?;
+        let n = self.valid_count() as f64;
+        Some((self.valid_heights().map(|h| (h - m).powi(2)).sum::<f64>() / n).sqrt())
+    }
+
+    /// Smallest and largest valid heights (`None` if none is valid).
+    pub fn min_max(&self) -> Option<(f64, f64)> {
+        self.valid_heights().fold(None, |acc, h| match acc {
+            None => Some((h, h)),
+            Some((lo, hi)) => Some((lo.min(h), hi.max(h))),
+        })
+    }
+
+    /// A copy with invalid points filled (all become valid): each invalid
+    /// point takes the mean of its valid 4-neighbours, repeated until none
+    /// is left (a diffusion front from the measured points). A map with no
+    /// valid point is refused.
+    pub fn filled(&self) -> Result<Self, TextureError> {
+        if self.valid_count() == 0 {
+            return Err(TextureError::NotEnoughData(
+                "the map has no valid point to fill from".into(),
+            ));
+        }
+        let mut h = self.heights.clone();
+        let mut v = self.valid.clone();
+        let (nx, ny) = (self.nx, self.ny);
+        loop {
+            let mut changed = Vec::new();
+            for j in 0..ny {
+                for i in 0..nx {
+                    let k = j * nx + i;
+                    if v[k] {
+                        continue;
+                    }
+                    let (mut s, mut c) = (0.0, 0);
+                    let mut add = |kk: usize| {
+                        if v[kk] {
+                            s += h[kk];
+                            c += 1;
+                        }
+                    };
+                    if i > 0 {
+                        add(k - 1);
+                    }
+                    if i + 1 < nx {
+                        add(k + 1);
+                    }
+                    if j > 0 {
+                        add(k - nx);
+                    }
+                    if j + 1 < ny {
+                        add(k + nx);
+                    }
+                    if c > 0 {
+                        changed.push((k, s / c as f64));
+                    }
+                }
+            }
+            if changed.is_empty() {
+                break;
+            }
+            for (k, val) in changed {
+                h[k] = val;
+                v[k] = true;
+            }
+        }
+        Self::new(self.nx, self.ny, self.dx, self.dy, h)
+    }
+}
+
+pub(crate) fn check_size(nx: usize, ny: usize) -> Result<usize, TextureError> {
+    if nx == 0 || ny == 0 {
+        return Err(TextureError::InvalidMap(format!(
+            "grid {nx} × {ny}: both sizes must be ≥ 1"
+        )));
+    }
+    match nx.checked_mul(ny) {
+        Some(n) if n <= MAX_POINTS => Ok(n),
+        _ => Err(TextureError::InvalidMap(format!(
+            "grid {nx} × {ny} exceeds {MAX_POINTS} points"
+        ))),
+    }
+}

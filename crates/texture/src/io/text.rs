@@ -1,0 +1,299 @@
+//! Plain-text height maps: the ASCII grid and xyz point lists.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{TextureError, write_atomic};
+use crate::heightmap::{HeightMap, MAX_POINTS, check_size};
+
+const GRID: &str = "ASCII grid";
+const XYZ: &str = "xyz";
+
+/// Read an ASCII grid file (format: [`ascii_grid_from_str`]).
+pub fn read_ascii_grid(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
+    let path = path.as_ref();
+    let s = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
+    let s = String::from_utf8(s).map_err(|_| TextureError::format(GRID, "not UTF-8 text"))?;
+    ascii_grid_from_str(&s)
+}
+
+/// Parse an ASCII grid.
+///
+/// ```text
+/// # comment lines start with '#', anywhere
+/// nx 4            header: one "key value" per line, any order
+/// ny 2
+/// dx 1e-4         spacing along x (in metres, times `xy_scale`)
+/// dy 1e-4
+/// z_scale 1e-3    optional: factor from the file's heights to metres (default 1)
+/// xy_scale 1      optional: factor from dx, dy to metres (default 1)
+/// data            the word `data` ends the header
+/// 0.1 0.2 0.3 0.4 ny rows of nx whitespace-separated heights, row j = y index j
+/// 0.0 NaN 0.1 0.2 `NaN` (any case) or `*` marks a missing point
+/// ```
+///
+/// Rows may be wrapped over several lines: the values are read in order,
+/// exactly `nx·ny` of them.
+pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
+    let mut lines = s.lines();
+    let (mut nx, mut ny, mut dx, mut dy) = (None, None, None, None);
+    let (mut zs, mut xys) = (1.0, 1.0);
+    let num = |k: &str, v: Option<&str>| -> Result<f64, TextureError> {
+        v.and_then(|v| v.parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| TextureError::format(GRID, format!("header {k}: expected a number")))
+    };
+    let int = |k: &str, v: Option<&str>| -> Result<usize, TextureError> {
+        v.and_then(|v| v.parse::<usize>().ok())
+            .ok_or_else(|| TextureError::format(GRID, format!("header {k}: expected a size")))
+    };
+    let mut saw_data = false;
+    for line in lines.by_ref() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let mut it = line.split_whitespace();
+        let key = it.next().unwrap_or("").to_ascii_lowercase();
+        let val = it.next();
+        match key.as_str() {
+            "nx" => nx = Some(int("nx", val)?),
+            "ny" => ny = Some(int("ny", val)?),
+            "dx" => dx = Some(num("dx", val)?),
+            "dy" => dy = Some(num("dy", val)?),
+            "z_scale" => zs = num("z_scale", val)?,
+            "xy_scale" => xys = num("xy_scale", val)?,
+            "data" => {
+                saw_data = true;
+                break;
+            }
+            other => {
+                return Err(TextureError::format(
+                    GRID,
+                    format!(
+                        "unknown header key {other:?} (nx, ny, dx, dy, z_scale, xy_scale, data)"
+                    ),
+                ));
+            }
+        }
+    }
+    if !saw_data {
+        return Err(TextureError::format(GRID, "no `data` line ends the header"));
+    }
+    let missing = |k| TextureError::format(GRID, format!("header has no {k}"));
+    let (nx, ny) = (
+        nx.ok_or_else(|| missing("nx"))?,
+        ny.ok_or_else(|| missing("ny"))?,
+    );
+    let (dx, dy) = (
+        dx.ok_or_else(|| missing("dx"))?,
+        dy.ok_or_else(|| missing("dy"))?,
+    );
+    let n = check_size(nx, ny).map_err(|e| TextureError::format(GRID, e.to_string()))?;
+    let mut h = Vec::new();
+    for line in lines {
+        let line = line.trim();
+        if line.starts_with('#') {
+            continue;
+        }
+        for tok in line.split_whitespace() {
+            if h.len() == n {
+                return Err(TextureError::format(
+                    GRID,
+                    format!("more than nx·ny = {n} values"),
+                ));
+            }
+            let v = if tok == "*" || tok.eq_ignore_ascii_case("nan") {
+                f64::NAN
+            } else {
+                let v: f64 = tok
+                    .parse()
+                    .map_err(|_| TextureError::format(GRID, format!("{tok:?} is not a number")))?;
+                if !v.is_finite() {
+                    return Err(TextureError::format(GRID, format!("{tok:?} is not finite")));
+                }
+                v * zs
+            };
+            h.push(v);
+        }
+    }
+    if h.len() != n {
+        return Err(TextureError::format(
+            GRID,
+            format!("{} values for nx·ny = {n}", h.len()),
+        ));
+    }
+    HeightMap::from_nan_heights(nx, ny, dx * xys, dy * xys, h)
+        .map_err(|e| TextureError::format(GRID, e.to_string()))
+}
+
+/// The ASCII grid text of `map` (metres, `NaN` for missing points, 17
+/// significant digits: a lossless round trip).
+pub fn ascii_grid_to_string(map: &HeightMap) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# tyreroad height map: heights in metres, row j = y index"
+    );
+    let _ = writeln!(
+        s,
+        "nx {}\nny {}\ndx {:e}\ndy {:e}\ndata",
+        map.nx(),
+        map.ny(),
+        map.dx(),
+        map.dy()
+    );
+    for j in 0..map.ny() {
+        let row: Vec<String> = (0..map.nx())
+            .map(|i| match map.get(i, j) {
+                Some(h) => format!("{h:e}"),
+                None => "NaN".into(),
+            })
+            .collect();
+        let _ = writeln!(s, "{}", row.join(" "));
+    }
+    s
+}
+
+/// Write an ASCII grid file (whole or not at all).
+pub fn write_ascii_grid(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), TextureError> {
+    write_atomic(path.as_ref(), ascii_grid_to_string(map).as_bytes())
+}
+
+/// Read an xyz file (format: [`xyz_from_str`]).
+pub fn read_xyz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
+    let path = path.as_ref();
+    let s = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
+    let s = String::from_utf8(s).map_err(|_| TextureError::format(XYZ, "not UTF-8 text"))?;
+    xyz_from_str(&s)
+}
+
+/// Parse an xyz point list on a regular grid.
+///
+/// One point per line, `x y z` in metres separated by whitespace, commas or
+/// semicolons; `#` lines and a first line that does not parse (a header) are
+/// skipped. The grid is recovered from the points: `dx` (`dy`) is the
+/// smallest gap between distinct x (y) values; every point must then lie on
+/// `x₀ + i·dx` within 1 % of `dx`. Grid points without a line, and points
+/// whose z is `NaN`, are missing. A duplicated grid point is an error, and
+/// so is a grid more than 64 times larger than the point count.
+pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
+    let mut pts: Vec<[f64; 3]> = Vec::new();
+    for (ln, line) in s.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let toks: Vec<&str> = line
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+            .filter(|t| !t.is_empty())
+            .collect();
+        let vals: Option<Vec<f64>> = toks.iter().map(|t| t.parse::<f64>().ok()).collect();
+        match vals {
+            Some(v) if v.len() == 3 => {
+                if !(v[0].is_finite() && v[1].is_finite()) || v[2].is_infinite() {
+                    return Err(TextureError::format(
+                        XYZ,
+                        format!("line {}: non-finite coordinate", ln + 1),
+                    ));
+                }
+                pts.push([v[0], v[1], v[2]]);
+            }
+            _ if pts.is_empty() && ln == 0 => continue,
+            _ => {
+                return Err(TextureError::format(
+                    XYZ,
+                    format!("line {}: expected three numbers `x y z`", ln + 1),
+                ));
+            }
+        }
+    }
+    if pts.is_empty() {
+        return Err(TextureError::format(XYZ, "no point"));
+    }
+    let axis = |c: usize| -> Result<(f64, f64, usize), TextureError> {
+        let mut v: Vec<f64> = pts.iter().map(|p| p[c]).collect();
+        v.sort_by(f64::total_cmp);
+        let (lo, hi) = (v[0], v[v.len() - 1]);
+        let span = hi - lo;
+        let tol = 1e-9 * span.abs().max(lo.abs()).max(1e-300);
+        let step = v
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|d| *d > tol)
+            .fold(f64::INFINITY, f64::min);
+        if !step.is_finite() {
+            return Ok((lo, 1.0, 1));
+        }
+        let n = (span / step).round() + 1.0;
+        if !(n.is_finite() && n <= MAX_POINTS as f64) {
+            return Err(TextureError::format(XYZ, "grid too large"));
+        }
+        Ok((lo, step, n as usize))
+    };
+    let (x0, dx, nx) = axis(0)?;
+    let (y0, dy, ny) = axis(1)?;
+    let (dx, dy) = match (nx, ny) {
+        (1, 1) => (1.0, 1.0),
+        (1, _) => (dy, dy),
+        (_, 1) => (dx, dx),
+        _ => (dx, dy),
+    };
+    let n = check_size(nx, ny).map_err(|e| TextureError::format(XYZ, e.to_string()))?;
+    if n / 64 > pts.len() {
+        return Err(TextureError::format(
+            XYZ,
+            format!("{} points do not fill a {nx} × {ny} grid", pts.len()),
+        ));
+    }
+    let mut h = vec![f64::NAN; n];
+    let mut seen = vec![false; n];
+    for p in &pts {
+        let fi = (p[0] - x0) / dx;
+        let fj = (p[1] - y0) / dy;
+        let (i, j) = (fi.round(), fj.round());
+        if (fi - i).abs() > 0.01 || (fj - j).abs() > 0.01 {
+            return Err(TextureError::format(
+                XYZ,
+                format!(
+                    "point ({}, {}) is not on the grid dx = {dx}, dy = {dy}",
+                    p[0], p[1]
+                ),
+            ));
+        }
+        let k = j as usize * nx + i as usize;
+        if k >= n || seen[k] {
+            return Err(TextureError::format(
+                XYZ,
+                format!("point ({}, {}) appears twice", p[0], p[1]),
+            ));
+        }
+        seen[k] = true;
+        h[k] = p[2];
+    }
+    HeightMap::from_nan_heights(nx, ny, dx, dy, h)
+        .map_err(|e| TextureError::format(XYZ, e.to_string()))
+}
+
+/// The xyz text of `map`: one `x y z` line per valid point (metres).
+pub fn xyz_to_string(map: &HeightMap) -> String {
+    let mut s = String::from("# x_m y_m z_m\n");
+    for j in 0..map.ny() {
+        for i in 0..map.nx() {
+            if let Some(h) = map.get(i, j) {
+                let _ = writeln!(
+                    s,
+                    "{:e} {:e} {h:e}",
+                    i as f64 * map.dx(),
+                    j as f64 * map.dy()
+                );
+            }
+        }
+    }
+    s
+}
+
+/// Write an xyz file (whole or not at all).
+pub fn write_xyz(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), TextureError> {
+    write_atomic(path.as_ref(), xyz_to_string(map).as_bytes())
+}

@@ -1,0 +1,242 @@
+//! Readers and writers: round trips, checksums, truncation, fuzzing.
+#![allow(clippy::unwrap_used)]
+
+use std::io::{Cursor, Read, Write};
+
+use proptest::prelude::*;
+use tyreroad_texture::io::sur::{sur_from_bytes, sur_to_bytes};
+use tyreroad_texture::io::text::{
+    ascii_grid_from_str, ascii_grid_to_string, xyz_from_str, xyz_to_string,
+};
+use tyreroad_texture::io::x3p::{X3pDataType, x3p_from_bytes, x3p_to_bytes};
+use tyreroad_texture::{HeightMap, TextureError};
+
+/// A 13 × 7 map with heights ±0.8 mm and two missing points.
+fn sample() -> HeightMap {
+    let (nx, ny) = (13, 7);
+    let mut h: Vec<f64> = (0..nx * ny)
+        .map(|k| 0.8e-3 * ((k as f64 * 0.37).sin()) + 1e-5 * (k % 5) as f64)
+        .collect();
+    h[5] = f64::NAN;
+    h[40] = f64::NAN;
+    HeightMap::from_nan_heights(nx, ny, 1.5e-4, 2.5e-4, h).unwrap()
+}
+
+fn max_diff(a: &HeightMap, b: &HeightMap) -> f64 {
+    assert_eq!((a.nx(), a.ny()), (b.nx(), b.ny()));
+    assert_eq!(a.valid(), b.valid());
+    a.heights()
+        .iter()
+        .zip(b.heights())
+        .filter(|(x, _)| x.is_finite())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn x3p_round_trip_all_types() {
+    let map = sample();
+    let range = 1.6e-3 + 4e-5;
+    for (t, tol) in [
+        (X3pDataType::I16, range / 65532.0),
+        (X3pDataType::I32, range / 4.29e9 + 1e-18),
+        (X3pDataType::F32, 1e-3 * 6e-8),
+        (X3pDataType::F64, 0.0),
+    ] {
+        let bytes = x3p_to_bytes(&map, t).unwrap();
+        let back = x3p_from_bytes(&bytes).unwrap();
+        assert_eq!(back.dx(), map.dx());
+        assert_eq!(back.dy(), map.dy());
+        let d = max_diff(&map, &back);
+        assert!(d <= tol, "{t:?}: max error {d:e} > {tol:e}");
+    }
+}
+
+#[test]
+fn x3p_file_round_trip_and_read_any() {
+    let dir = std::env::temp_dir().join(format!("tyreroad-texture-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("s.x3p");
+    let map = sample();
+    tyreroad_texture::io::x3p::write_x3p(&map, &path, X3pDataType::F64).unwrap();
+    let back = tyreroad_texture::read_any(&path).unwrap();
+    assert_eq!(max_diff(&map, &back), 0.0);
+    let leftovers: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(leftovers.len(), 1, "no temporary file is left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Rebuild an X3P zip with one entry changed.
+fn replace_entry(bytes: &[u8], name: &str, f: impl Fn(&mut Vec<u8>)) -> Vec<u8> {
+    let mut zin = zip::ZipArchive::new(Cursor::new(bytes)).unwrap();
+    let mut w = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let opts =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    for k in 0..zin.len() {
+        let mut e = zin.by_index(k).unwrap();
+        let n = e.name().unwrap().to_string();
+        let mut buf = Vec::new();
+        e.read_to_end(&mut buf).unwrap();
+        if n == name {
+            f(&mut buf);
+        }
+        w.start_file(n, opts).unwrap();
+        w.write_all(&buf).unwrap();
+    }
+    w.finish().unwrap().into_inner()
+}
+
+#[test]
+fn x3p_md5_mismatch_is_detected() {
+    let bytes = x3p_to_bytes(&sample(), X3pDataType::F64).unwrap();
+    // Untouched but re-zipped: still fine.
+    assert!(x3p_from_bytes(&replace_entry(&bytes, "none", |_| ())).is_ok());
+    let bad = replace_entry(&bytes, "bindata/data.bin", |b| b[17] ^= 0x40);
+    match x3p_from_bytes(&bad) {
+        Err(TextureError::Checksum { what, .. }) => assert_eq!(what, "bindata/data.bin"),
+        other => panic!("expected a checksum error, got {other:?}"),
+    }
+    let bad = replace_entry(&bytes, "bindata/valid.bin", |b| b[0] ^= 1);
+    assert!(matches!(
+        x3p_from_bytes(&bad),
+        Err(TextureError::Checksum { .. })
+    ));
+    let bad = replace_entry(&bytes, "main.xml", |b| {
+        let s = String::from_utf8(b.clone())
+            .unwrap()
+            .replace("tyreroad-texture</Creator>", "someone else</Creator>");
+        *b = s.into_bytes();
+    });
+    match x3p_from_bytes(&bad) {
+        Err(TextureError::Checksum { what, .. }) => assert_eq!(what, "main.xml"),
+        other => panic!("expected a checksum error, got {other:?}"),
+    }
+}
+
+#[test]
+fn x3p_validity_buffer_marks_missing_points_for_integer_types() {
+    let map = sample();
+    let back = x3p_from_bytes(&x3p_to_bytes(&map, X3pDataType::I16).unwrap()).unwrap();
+    assert_eq!(back.valid_count(), map.nx() * map.ny() - 2);
+    assert!(back.get(5, 0).is_none() && back.get(1, 3).is_none());
+}
+
+#[test]
+fn truncated_files_give_errors() {
+    let map = sample();
+    let x3p = x3p_to_bytes(&map, X3pDataType::F32).unwrap();
+    for cut in [
+        0,
+        1,
+        10,
+        22,
+        x3p.len() / 3,
+        x3p.len() / 2,
+        x3p.len() - 23,
+        x3p.len() - 1,
+    ] {
+        assert!(x3p_from_bytes(&x3p[..cut]).is_err(), "X3P cut at {cut}");
+    }
+    let sur = sur_to_bytes(&map).unwrap();
+    for cut in [0, 100, 511, 512, sur.len() - 1] {
+        assert!(sur_from_bytes(&sur[..cut]).is_err(), "SUR cut at {cut}");
+    }
+    let txt = ascii_grid_to_string(&map);
+    // (A cut inside the last number of a text file cannot be seen.)
+    for cut in [txt.len() / 2, txt.len() - 60] {
+        assert!(
+            ascii_grid_from_str(&txt[..cut]).is_err(),
+            "ASCII cut at {cut}"
+        );
+    }
+}
+
+#[test]
+fn sur_round_trip() {
+    let map = sample();
+    let back = sur_from_bytes(&sur_to_bytes(&map).unwrap()).unwrap();
+    assert!((back.dx() / map.dx() - 1.0).abs() < 1e-7);
+    let d = max_diff(&map, &back);
+    assert!(d < 1e-9, "max error {d:e}"); // f32 offset and step, i32 points
+}
+
+#[test]
+fn ascii_and_xyz_round_trips() {
+    let map = sample();
+    let back = ascii_grid_from_str(&ascii_grid_to_string(&map)).unwrap();
+    assert_eq!(max_diff(&map, &back), 0.0);
+    assert_eq!((back.dx(), back.dy()), (map.dx(), map.dy()));
+    let back = xyz_from_str(&xyz_to_string(&map)).unwrap();
+    assert!(max_diff(&map, &back) == 0.0);
+    assert!((back.dx() / map.dx() - 1.0).abs() < 1e-12);
+    let text =
+        "# demo\nnx 3\nny 2\ndx 0.1\ndy 0.2\nz_scale 1e-3\nxy_scale 1e-3\ndata\n1 2 3\n4 * nan\n";
+    let m = ascii_grid_from_str(text).unwrap();
+    assert_eq!((m.nx(), m.ny(), m.valid_count()), (3, 2, 4));
+    assert!((m.dx() - 1e-4).abs() < 1e-18 && (m.get(2, 0).unwrap() - 3e-3).abs() < 1e-18);
+}
+
+#[test]
+fn shipped_fixtures_read() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/texture");
+    for name in ["spheres.x3p", "sine.asc"] {
+        let p = dir.join(name);
+        if p.exists() {
+            let m = tyreroad_texture::read_any(&p).unwrap();
+            assert!(m.valid_count() > 0, "{name}");
+        }
+    }
+}
+
+fn readers(bytes: &[u8]) {
+    let _ = x3p_from_bytes(bytes);
+    let _ = sur_from_bytes(bytes);
+    let s = String::from_utf8_lossy(bytes);
+    let _ = ascii_grid_from_str(&s);
+    let _ = xyz_from_str(&s);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, .. ProptestConfig::default() })]
+
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..2048)) {
+        readers(&bytes);
+    }
+
+    #[test]
+    fn mutated_files_never_panic(
+        t in 0usize..4,
+        cut in 0.0f64..1.0,
+        flips in proptest::collection::vec((0.0f64..1.0, any::<u8>()), 0..6),
+    ) {
+        let map = sample();
+        let ty = [X3pDataType::I16, X3pDataType::I32, X3pDataType::F32, X3pDataType::F64][t];
+        for mut b in [
+            x3p_to_bytes(&map, ty).unwrap(),
+            replace_entry(&x3p_to_bytes(&map, ty).unwrap(), "none", |_| ()),
+            sur_to_bytes(&map).unwrap(),
+            ascii_grid_to_string(&map).into_bytes(),
+            xyz_to_string(&map).into_bytes(),
+        ] {
+            for (pos, v) in &flips {
+                let k = ((pos * b.len() as f64) as usize).min(b.len() - 1);
+                b[k] ^= v;
+            }
+            readers(&b);
+            let n = (cut * b.len() as f64) as usize;
+            readers(&b[..n]);
+        }
+    }
+
+    #[test]
+    fn mutated_sur_headers_never_panic(
+        fields in proptest::collection::vec((0usize..512, any::<u8>()), 1..12),
+    ) {
+        let mut b = sur_to_bytes(&sample()).unwrap();
+        for (k, v) in fields {
+            b[k] = v;
+        }
+        let _ = sur_from_bytes(&b);
+    }
+}
