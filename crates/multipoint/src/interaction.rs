@@ -20,6 +20,11 @@ impl<'a> Boussinesq<'a> {
         Self { positions, factor }
     }
 
+    /// The compliance factor `f = (1 − ν²)/(π E)` (`T_ij = f / r_ij`).
+    pub fn factor(&self) -> f64 {
+        self.factor
+    }
+
     /// `T_ij`.
     #[inline]
     pub fn coefficient(&self, i: usize, j: usize) -> f64 {

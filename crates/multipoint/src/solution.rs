@@ -3,7 +3,8 @@
 use faer::Par;
 use tyreroad_contact_law::{ContactLaw, LocalContact};
 
-use crate::{Boussinesq, Problem, SolveError};
+use crate::krylov::Interaction;
+use crate::{Problem, SolveError};
 
 /// A converged multipoint contact.
 ///
@@ -29,6 +30,7 @@ pub struct Solution {
 }
 
 impl Solution {
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn assemble<L: ContactLaw>(
         problem: &Problem<L>,
         forces: Vec<f64>,
@@ -36,13 +38,11 @@ impl Solution {
         iterations: usize,
         load_steps: usize,
         residual: f64,
+        interaction: Interaction<'_>,
+        par: Par,
     ) -> Self {
         let mut u = vec![0.0; forces.len()];
-        Boussinesq::new(problem.positions(), problem.material().boussinesq_factor()).apply(
-            &forces,
-            &mut u,
-            Par::Seq,
-        );
+        interaction.apply(&forces, &mut u, par);
         let depths = problem
             .gaps()
             .iter()
@@ -61,6 +61,7 @@ impl Solution {
 
     /// Assembles a converged state, zeroing exactly the forces left on
     /// asperities out of contact (they are below the tolerance already).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn finish<L: ContactLaw>(
         problem: &Problem<L>,
         forces: Vec<f64>,
@@ -68,8 +69,19 @@ impl Solution {
         iterations: usize,
         load_steps: usize,
         residual: f64,
+        interaction: Interaction<'_>,
+        par: Par,
     ) -> Self {
-        let mut s = Self::assemble(problem, forces, approach, iterations, load_steps, residual);
+        let mut s = Self::assemble(
+            problem,
+            forces,
+            approach,
+            iterations,
+            load_steps,
+            residual,
+            interaction,
+            par,
+        );
         for (p, d) in s.forces.iter_mut().zip(&s.depths) {
             if !(*d > 0.0) || *p < 0.0 {
                 *p = 0.0;

@@ -7,7 +7,8 @@ use faer::linalg::lu::partial_pivoting as lu;
 use faer::{Mat, MatMut, Par};
 use tyreroad_contact_law::ContactLaw;
 
-use crate::{Boussinesq, Problem, Solution, SolveError};
+use crate::krylov::{self, ActiveOperator, Interaction, KrylovStats, Preconditioner};
+use crate::{Boussinesq, FastBoussinesq, FastOptions, Problem, Solution, SolveError};
 
 /// What is imposed on the tread.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,6 +17,23 @@ pub enum Control {
     Load(f64),
     /// The rigid approach `δ0` (m); the total load is an output.
     Approach(f64),
+}
+
+/// How each Newton step's linear system is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LinearSolver {
+    /// Dense below [`SolverOptions::krylov_min_active`] active asperities when
+    /// the matrix fits [`SolverOptions::dense_memory_limit_bytes`], Krylov
+    /// otherwise.
+    #[default]
+    Auto,
+    /// In-place dense Cholesky (LU when indefinite) of the active matrix. A
+    /// solve whose matrix would exceed the memory limit fails with
+    /// [`SolveError::InvalidInput`] rather than allocate it.
+    Dense,
+    /// Matrix-free preconditioned CG (GMRES when indefinite) with inexact
+    /// Newton forcing terms.
+    Krylov,
 }
 
 /// Tuning of the solver. The defaults converge from a cold start on every
@@ -32,6 +50,27 @@ pub struct SolverOptions {
     pub max_load_steps: usize,
     /// Parallelism of the interaction products and of the factorizations.
     pub par: Par,
+    /// Dense or matrix-free linear algebra (see [`LinearSolver`]).
+    pub linear_solver: LinearSolver,
+    /// The most memory a dense active matrix (`8 n_A²` bytes plus its
+    /// factorization scratch) may take; above it [`LinearSolver::Auto`] goes
+    /// Krylov and [`LinearSolver::Dense`] refuses. Default 1 GiB.
+    pub dense_memory_limit_bytes: usize,
+    /// Under [`LinearSolver::Auto`], the active count from which Krylov is
+    /// preferred to the dense factorization even when it would fit (the
+    /// measured crossover on the project machine, docs/performance.md).
+    pub krylov_min_active: usize,
+    /// The number of asperities from which the Krylov path computes every
+    /// interaction product `T·x` with the fast multipole operator
+    /// ([`FastBoussinesq`]) instead of the exact `O(N²)` sum: residuals at
+    /// [`Self::fast_operator`] accuracy, Krylov products at a lower order.
+    /// Never used by the dense path. `usize::MAX` disables it.
+    pub fast_operator_min_n: usize,
+    /// Accuracy of the fast residual products (order 10: relative error
+    /// ≈ 1e-10). Newton converges on the residual of that operator, so the
+    /// forces differ from the exact-kernel solution by about this error
+    /// times the problem's conditioning.
+    pub fast_operator: FastOptions,
 }
 
 impl Default for SolverOptions {
@@ -41,6 +80,11 @@ impl Default for SolverOptions {
             max_iterations: 60,
             max_load_steps: 200,
             par: Par::Seq,
+            linear_solver: LinearSolver::Auto,
+            dense_memory_limit_bytes: 1 << 30,
+            krylov_min_active: 2000,
+            fast_operator_min_n: 8192,
+            fast_operator: FastOptions::default(),
         }
     }
 }
@@ -65,16 +109,51 @@ pub fn solve_from<L: ContactLaw + Sync>(
     check_control(control)?;
     check_options(options)?;
     let n = problem.len();
-    if let Some(s) = initial {
-        if s.forces.len() != n {
-            return Err(SolveError::InvalidInput(format!(
-                "warm start has {} forces for {n} asperities",
-                s.forces.len()
-            )));
-        }
+    if let Some(s) = initial
+        && s.forces.len() != n
+    {
+        return Err(SolveError::InvalidInput(format!(
+            "warm start has {} forces for {n} asperities",
+            s.forces.len()
+        )));
     }
     let mut ws = Workspace::new(n);
-    let op = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
+    let exact = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
+    let may_krylov = options.linear_solver != LinearSolver::Dense;
+    let use_fast = may_krylov && n >= options.fast_operator_min_n;
+    let factor = problem.material().boussinesq_factor();
+    let tree = may_krylov.then(|| {
+        let fo = FastOptions {
+            order: if use_fast {
+                options.fast_operator.order
+            } else {
+                2
+            },
+            ..options.fast_operator
+        };
+        FastBoussinesq::new(problem.positions(), factor, fo)
+    });
+    let tree_lo = (use_fast).then(|| {
+        let fo = FastOptions {
+            order: krylov_order(options.fast_operator.order),
+            ..options.fast_operator
+        };
+        FastBoussinesq::new(problem.positions(), factor, fo)
+    });
+    let op = Ops {
+        exact,
+        residual: match (&tree, use_fast) {
+            (Some(t), true) => Interaction::Fast(t),
+            _ => Interaction::Exact(exact),
+        },
+        product: match &tree_lo {
+            Some(t) => Interaction::Fast(t),
+            None => Interaction::Exact(exact),
+        },
+        tree: tree.as_ref(),
+        positions: problem.positions(),
+    };
+    let par = options.par;
     let first_touch = problem.gaps().iter().copied().fold(f64::INFINITY, f64::min);
 
     let scale = match control {
@@ -98,6 +177,8 @@ pub fn solve_from<L: ContactLaw + Sync>(
             0,
             0,
             0.0,
+            op.residual,
+            par,
         ));
     }
     let tol = options.tolerance * scale;
@@ -116,7 +197,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
     let mut iterations = 0;
     let direct = newton(
         problem, &op, control, &mut p, &mut d0, tol, options, &mut ws,
-    );
+    )?;
     iterations += direct.iterations;
     if direct.converged {
         return Ok(Solution::finish(
@@ -126,6 +207,8 @@ pub fn solve_from<L: ContactLaw + Sync>(
             iterations,
             1,
             direct.residual / scale,
+            op.residual,
+            par,
         ));
     }
 
@@ -179,7 +262,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
             options.tolerance * sub_scale,
             options,
             &mut ws,
-        );
+        )?;
         iterations += run.iterations;
         last_residual = run.residual;
         if run.converged {
@@ -198,6 +281,8 @@ pub fn solve_from<L: ContactLaw + Sync>(
         iterations,
         steps + 1,
         last_residual / scale,
+        op.residual,
+        par,
     ))
 }
 
@@ -210,6 +295,30 @@ fn check_control(control: Control) -> Result<(), SolveError> {
             "imposed approach must be finite, got {d}"
         ))),
         _ => Ok(()),
+    }
+}
+
+/// Chebyshev order of the Krylov products for residual order `order`: the
+/// Jacobian only steers Newton, so about half the digits do.
+fn krylov_order(order: usize) -> usize {
+    (order / 2 + 1).clamp(4, order.max(4))
+}
+
+/// The interaction products of one solve.
+struct Ops<'a> {
+    exact: Boussinesq<'a>,
+    /// Residuals (and the final depths).
+    residual: Interaction<'a>,
+    /// Krylov products.
+    product: Interaction<'a>,
+    /// The cluster tree of the Krylov preconditioner.
+    tree: Option<&'a FastBoussinesq>,
+    positions: &'a [[f64; 2]],
+}
+
+impl Ops<'_> {
+    fn exact_positions(&self) -> &[[f64; 2]] {
+        self.positions
     }
 }
 
@@ -300,6 +409,14 @@ struct Workspace {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     stack: MemBuffer,
+    /// Krylov: `1/Σ`-solve of the previous step (warm start), per asperity.
+    ones_solution: Vec<f64>,
+    /// Krylov: inexact Newton forcing term of the next step.
+    forcing: f64,
+    /// Krylov: products spent, for diagnostics.
+    krylov: KrylovStats,
+    /// Whether the last Newton direction came from a Krylov solve.
+    last_was_krylov: bool,
 }
 
 impl Workspace {
@@ -316,6 +433,10 @@ impl Workspace {
             perm: vec![0; n],
             perm_inv: vec![0; n],
             stack: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+            ones_solution: vec![0.0; n],
+            forcing: 0.1,
+            krylov: KrylovStats::default(),
+            last_was_krylov: false,
         }
     }
 }
@@ -330,14 +451,14 @@ struct NewtonRun {
 /// (max-norm, sum of squares) including the load equation.
 fn evaluate<L: ContactLaw + Sync>(
     problem: &Problem<L>,
-    op: &Boussinesq<'_>,
+    op: &Ops<'_>,
     control: Control,
     p: &[f64],
     d0: f64,
     ws: &mut Workspace,
     par: Par,
 ) -> (f64, f64) {
-    op.apply(p, &mut ws.u, par);
+    op.residual.apply(p, &mut ws.u, par);
     let (laws, gaps) = (problem.laws(), problem.gaps());
     let (mut max, mut sq) = (0.0_f64, 0.0);
     for i in 0..p.len() {
@@ -363,25 +484,43 @@ fn evaluate<L: ContactLaw + Sync>(
 #[allow(clippy::too_many_arguments)]
 fn newton<L: ContactLaw + Sync>(
     problem: &Problem<L>,
-    op: &Boussinesq<'_>,
+    op: &Ops<'_>,
     control: Control,
     p: &mut [f64],
     d0: &mut f64,
     tol: f64,
     options: &SolverOptions,
     ws: &mut Workspace,
-) -> NewtonRun {
+) -> Result<NewtonRun, SolveError> {
     let par = options.par;
     let (mut max, mut merit) = evaluate(problem, op, control, p, *d0, ws, par);
+    // Eisenstat–Walker (choice 2, γ = 0.9, α = 2) forcing terms for Krylov.
+    ws.forcing = 0.1;
+    let mut tight = false;
+    let mut previous_norm = f64::NAN;
     for iteration in 0..options.max_iterations {
         if max <= tol {
-            return NewtonRun {
+            return Ok(NewtonRun {
                 converged: true,
                 iterations: iteration,
                 residual: max,
-            };
+            });
         }
-        let Some(d0_step) = newton_step(op, control, p, ws, par) else {
+        let norm = merit.sqrt();
+        if previous_norm.is_finite() && previous_norm > 0.0 {
+            let ratio = norm / previous_norm;
+            let mut eta = 0.9 * ratio * ratio;
+            let guard = 0.9 * ws.forcing * ws.forcing;
+            if guard > 0.1 {
+                eta = eta.max(guard);
+            }
+            ws.forcing = eta.clamp(1e-10, 0.1);
+        }
+        if tight {
+            ws.forcing = 1e-10;
+        }
+        previous_norm = norm;
+        let Some(d0_step) = newton_step(op, control, p, ws, options)? else {
             // Under load control with nothing in contact: re-seat the tread on
             // the current interaction displacements and carry on.
             (ws.trial, *d0) = uncoupled_start(problem, control, &ws.u);
@@ -411,20 +550,35 @@ fn newton<L: ContactLaw + Sync>(
             }
         };
         if !accepted {
-            // Restore residuals of the current iterate for the report.
-            (max, _) = evaluate(problem, op, control, p, *d0, ws, par);
-            return NewtonRun {
+            // Restore residuals of the current iterate.
+            (max, merit) = evaluate(problem, op, control, p, *d0, ws, par);
+            if ws.last_was_krylov && !tight {
+                // An inexact direction may be too rough: retry solved tightly.
+                tight = true;
+                continue;
+            }
+            return Ok(NewtonRun {
                 converged: false,
                 iterations: iteration + 1,
                 residual: max,
-            };
+            });
+        }
+        if alpha == 1.0 {
+            tight = false;
         }
     }
-    NewtonRun {
+    Ok(NewtonRun {
         converged: max <= tol,
         iterations: options.max_iterations,
         residual: max,
-    }
+    })
+}
+
+/// Bytes of a dense active solve: the matrix and the factorization scratch.
+fn dense_bytes(na: usize) -> usize {
+    na.saturating_mul(na)
+        .saturating_mul(8)
+        .saturating_add(na.saturating_mul(64))
 }
 
 /// One Newton direction into `ws.step`; returns the approach increment, or
@@ -432,15 +586,17 @@ fn newton<L: ContactLaw + Sync>(
 ///
 /// Rows out of contact (`k_i = 0`) read `ΔP_i = −R_i`. Active rows, divided
 /// by `k_i`, form the symmetric system `(diag(1/k) + T_AA) ΔP_A − Δδ0 = b`,
-/// bordered under load control by `Σ ΔP = W − Σ P`; it is solved with one
-/// factorization for two right-hand sides (`b` and `1`).
+/// bordered under load control by `Σ ΔP = W − Σ P`; it is solved for two
+/// right-hand sides (`b` and `1`): by one dense factorization, or by two
+/// Krylov solves to the current forcing term.
 fn newton_step(
-    op: &Boussinesq<'_>,
+    op: &Ops<'_>,
     control: Control,
     p: &[f64],
     ws: &mut Workspace,
-    par: Par,
-) -> Option<f64> {
+    options: &SolverOptions,
+) -> Result<Option<f64>, SolveError> {
+    let par = options.par;
     let n = p.len();
     ws.active.clear();
     for i in 0..n {
@@ -455,29 +611,47 @@ fn newton_step(
         Control::Load(w) => Some(w),
         Control::Approach(_) => None,
     };
+    ws.last_was_krylov = false;
     if na == 0 {
-        return match load {
+        return Ok(match load {
             Some(_) => None,
             None => Some(0.0),
-        };
+        });
     }
-    // Right-hand sides: b_i = −R_i/k_i − Σ_{j inactive} T_ij ΔP_j, and 1.
+    let fits = dense_bytes(na) <= options.dense_memory_limit_bytes;
+    let use_krylov = match options.linear_solver {
+        LinearSolver::Dense if !fits => {
+            return Err(SolveError::InvalidInput(format!(
+                "a dense solve of {na} active asperities needs {} bytes, over the \
+                 dense_memory_limit_bytes of {}: use LinearSolver::Auto or Krylov",
+                dense_bytes(na),
+                options.dense_memory_limit_bytes
+            )));
+        }
+        LinearSolver::Dense => false,
+        LinearSolver::Krylov => true,
+        LinearSolver::Auto => !fits || na >= options.krylov_min_active,
+    };
     let moving: Vec<usize> = (0..n)
         .filter(|&j| ws.stiffness[j] <= 0.0 && ws.step[j] != 0.0)
         .collect();
+    if use_krylov && let Some(tree) = op.tree {
+        return Ok(krylov_step(op, tree, load, p, &moving, ws, par));
+    }
+    // Right-hand sides: b_i = −R_i/k_i − Σ_{j inactive} T_ij ΔP_j, and 1.
     let ncols = if load.is_some() { 2 } else { 1 };
     ws.rhs.resize_with(na, ncols, |_, _| 0.0);
     for (a, &i) in ws.active.iter().enumerate() {
         let coupling: f64 = moving
             .iter()
-            .map(|&j| op.coefficient(i, j) * ws.step[j])
+            .map(|&j| op.exact.coefficient(i, j) * ws.step[j])
             .sum();
         ws.rhs[(a, 0)] = -ws.residual[i] / ws.stiffness[i] - coupling;
         if ncols == 2 {
             ws.rhs[(a, 1)] = 1.0;
         }
     }
-    solve_active(op, ws, na, ncols, par);
+    solve_active(&op.exact, ws, na, ncols, par);
     let d0_step = match load {
         Some(w) => {
             let sum_p: f64 = p.iter().sum();
@@ -489,7 +663,7 @@ fn newton_step(
                 sy += ws.rhs[(a, 1)];
             }
             if sy.abs() < f64::MIN_POSITIVE || !sy.is_finite() {
-                return None;
+                return Ok(None);
             }
             (c - sx) / sy
         }
@@ -499,6 +673,100 @@ fn newton_step(
         let y = if ncols == 2 { ws.rhs[(a, 1)] } else { 0.0 };
         ws.step[i] = ws.rhs[(a, 0)] + y * d0_step;
     }
+    Ok(Some(d0_step))
+}
+
+/// The Krylov version of the active solve in [`newton_step`]: the coupling
+/// of the moving inactive forces is one interaction product, and the two
+/// right-hand sides are two preconditioned Krylov solves to relative
+/// residual `ws.forcing` (the `1` solve warm-started from the last step's).
+#[allow(clippy::too_many_arguments)]
+fn krylov_step(
+    op: &Ops<'_>,
+    tree: &FastBoussinesq,
+    load: Option<f64>,
+    p: &[f64],
+    moving: &[usize],
+    ws: &mut Workspace,
+    par: Par,
+) -> Option<f64> {
+    ws.last_was_krylov = true;
+    let n = p.len();
+    let na = ws.active.len();
+    let mut coupling = vec![0.0; n];
+    if !moving.is_empty() {
+        let mut x = vec![0.0; n];
+        for &j in moving {
+            x[j] = ws.step[j];
+        }
+        op.product.apply(&x, &mut coupling, par);
+    }
+    let b: Vec<f64> = ws
+        .active
+        .iter()
+        .map(|&i| -ws.residual[i] / ws.stiffness[i] - coupling[i])
+        .collect();
+    let mut slot = vec![usize::MAX; n];
+    for (a, &i) in ws.active.iter().enumerate() {
+        slot[i] = a;
+    }
+    // Coarse clusters: at most ~1024 of them.
+    let coarse_level = tree.depth().saturating_sub(1).min(5);
+    let (leaves, leaf_coarse) = tree.clusters(coarse_level);
+    let mut pre = Preconditioner::new(
+        &op.exact,
+        op.exact_positions(),
+        &leaves,
+        &leaf_coarse,
+        &ws.active,
+        &ws.stiffness,
+        &slot,
+        par,
+    );
+    let m = ActiveOperator {
+        op: op.product,
+        active: &ws.active,
+        stiffness: &ws.stiffness,
+        n,
+        par,
+    };
+    let budget = 20 * na.max(50);
+    let mut x = vec![0.0; na];
+    let s1 = krylov::solve(&m, &mut pre, &b, &mut x, ws.forcing, budget);
+    ws.krylov.products += s1.products;
+    ws.krylov.breakdowns += s1.breakdowns;
+    let d0_step = match load {
+        Some(w) => {
+            let ones = vec![1.0; na];
+            let mut y: Vec<f64> = ws.active.iter().map(|&i| ws.ones_solution[i]).collect();
+            let s2 = krylov::solve(&m, &mut pre, &ones, &mut y, ws.forcing.min(1e-3), budget);
+            ws.krylov.products += s2.products;
+            ws.krylov.breakdowns += s2.breakdowns;
+            ws.ones_solution.iter_mut().for_each(|v| *v = 0.0);
+            for (a, &i) in ws.active.iter().enumerate() {
+                ws.ones_solution[i] = y[a];
+            }
+            let sum_p: f64 = p.iter().sum();
+            let inactive: f64 = moving.iter().map(|&j| ws.step[j]).sum();
+            let c = w - sum_p - inactive;
+            let sx: f64 = x.iter().sum();
+            let sy: f64 = y.iter().sum();
+            if sy.abs() < f64::MIN_POSITIVE || !sy.is_finite() {
+                return None;
+            }
+            let d = (c - sx) / sy;
+            for (a, &i) in ws.active.iter().enumerate() {
+                ws.step[i] = x[a] + y[a] * d;
+            }
+            d
+        }
+        None => {
+            for (a, &i) in ws.active.iter().enumerate() {
+                ws.step[i] = x[a];
+            }
+            0.0
+        }
+    };
     Some(d0_step)
 }
 

@@ -1,0 +1,178 @@
+//! Scaling of the static multipoint solve (issue "Solver scaling to 10^5
+//! asperities"): solve time against N = 25 … 10⁵ on the road-like random
+//! field of `benches/multipoint.rs`, the dense/Krylov crossover, T·x
+//! throughput (exact against fast multipole) next to a streaming-bandwidth
+//! figure, and thread scaling (`Par::Seq` against `Par::rayon(2)`).
+//!
+//! Targets on the project's 2-core machine: N = 10⁴ under 2 s, N = 10⁵
+//! under 30 s. Results: docs/performance.md.
+
+use std::time::Duration;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tyreroad::asperity::Sphere;
+use tyreroad::contact_law::{Material, PotentialLaw};
+use tyreroad::multipoint::{
+    Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, Problem, SolverOptions,
+    solve,
+};
+
+type Law = PotentialLaw<Sphere>;
+
+fn rubber() -> Material {
+    Material::new(6.54e6, 0.5).expect("valid material")
+}
+
+/// As `random_field` in benches/multipoint.rs: 3 mm mean spacing, radii
+/// 1–5 mm, heights spread over 0.5 mm.
+fn random_field(n: usize, seed: u64) -> Problem<Law> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let side = 3e-3 * (n as f64).sqrt();
+    let positions = (0..n)
+        .map(|_| [rng.random::<f64>() * side, rng.random::<f64>() * side])
+        .collect();
+    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
+    let laws = (0..n)
+        .map(|_| {
+            let r = 1e-3 + 4e-3 * rng.random::<f64>();
+            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
+        })
+        .collect();
+    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
+}
+
+/// 0.2 MPa over the field, like a tyre.
+fn load(n: usize) -> f64 {
+    0.2e6 * 9e-6 * n as f64
+}
+
+fn options(solver: LinearSolver, par: Par) -> SolverOptions {
+    SolverOptions {
+        linear_solver: solver,
+        par,
+        ..SolverOptions::default()
+    }
+}
+
+fn bench_solve_vs_n(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scaling/solve_auto_2threads");
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(200));
+    for n in [25usize, 100, 1000, 10_000, 100_000] {
+        let problem = random_field(n, 2006);
+        let opts = options(LinearSolver::Auto, Par::rayon(2));
+        let s = solve(&problem, Control::Load(load(n)), &opts).expect("converges");
+        eprintln!(
+            "N = {n}: {} in contact, {} iterations, {} load steps",
+            s.contact_count(),
+            s.iterations,
+            s.load_steps
+        );
+        if n >= 10_000 {
+            // One timed solve is the measurement at this size.
+            group.sample_size(10);
+            group.measurement_time(Duration::from_secs(1));
+        }
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| solve(&problem, Control::Load(load(n)), &opts).expect("converges"))
+        });
+    }
+    group.finish();
+}
+
+fn bench_crossover(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scaling/crossover");
+    group.sample_size(10);
+    for n in [500usize, 1000, 2000, 4000] {
+        let problem = random_field(n, 2006);
+        for (name, solver) in [
+            ("dense", LinearSolver::Dense),
+            ("krylov", LinearSolver::Krylov),
+        ] {
+            let opts = options(solver, Par::rayon(2));
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                b.iter(|| solve(&problem, Control::Load(load(n)), &opts).expect("converges"))
+            });
+        }
+    }
+    group.finish();
+}
+
+fn bench_matvec(c: &mut Criterion) {
+    // Streaming bandwidth: a = b + s c over 3 × 64 MiB (24 bytes an element).
+    let m = 8 << 20;
+    let (b, cc) = (vec![1.0_f64; m], vec![2.0_f64; m]);
+    let mut a = vec![0.0_f64; m];
+    let mut group = c.benchmark_group("scaling/bandwidth");
+    group.sample_size(10);
+    group.throughput(Throughput::Bytes(24 * m as u64));
+    group.bench_function("triad_1thread", |bench| {
+        bench.iter(|| {
+            a.iter_mut()
+                .zip(b.iter().zip(&cc))
+                .for_each(|(a, (b, c))| *a = b + 0.5 * c)
+        })
+    });
+    group.finish();
+
+    let mut group = c.benchmark_group("scaling/matvec");
+    group.sample_size(10);
+    for n in [10_000usize, 100_000] {
+        let problem = random_field(n, 2006);
+        let f = problem.material().boussinesq_factor();
+        let x = vec![1.0; n];
+        let mut out = vec![0.0; n];
+        group.throughput(Throughput::Elements(n as u64));
+        for (label, par) in [("seq", Par::Seq), ("rayon2", Par::rayon(2))] {
+            if n <= 10_000 {
+                let exact = Boussinesq::new(problem.positions(), f);
+                group.bench_with_input(
+                    BenchmarkId::new(format!("exact_{label}"), n),
+                    &n,
+                    |b, _| b.iter(|| exact.apply(&x, &mut out, par)),
+                );
+            }
+            for order in [6usize, 10] {
+                let op = FastBoussinesq::new(
+                    problem.positions(),
+                    f,
+                    FastOptions {
+                        order,
+                        ..FastOptions::default()
+                    },
+                );
+                group.bench_with_input(
+                    BenchmarkId::new(format!("fast{order}_{label}"), n),
+                    &n,
+                    |b, _| b.iter(|| op.apply(&x, &mut out, par)),
+                );
+            }
+        }
+    }
+    group.finish();
+}
+
+fn bench_threads(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scaling/threads");
+    group.sample_size(10);
+    let n = 10_000;
+    let problem = random_field(n, 2006);
+    for (label, par) in [("seq", Par::Seq), ("rayon2", Par::rayon(2))] {
+        let opts = options(LinearSolver::Auto, par);
+        group.bench_with_input(BenchmarkId::new(label, n), &n, |b, _| {
+            b.iter(|| solve(&problem, Control::Load(load(n)), &opts).expect("converges"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_solve_vs_n,
+    bench_crossover,
+    bench_matvec,
+    bench_threads
+);
+criterion_main!(benches);
