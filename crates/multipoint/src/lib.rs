@@ -16,18 +16,22 @@
 //!
 //! # Method
 //!
-//! Newton–Raphson on `R_i = P_i − P_i^law(δ_i)`. Rows out of contact
-//! (`k_i = dP/dδ = 0`) reduce to `ΔP_i = −R_i`; the others, divided by `k_i`,
-//! give the symmetric system `(diag(1/k) + T_AA) ΔP_A − Δδ0 = b`, bordered by
-//! the load equation under load control and solved for two right-hand sides
-//! (`b` and `1`; the border then gives `Δδ0` in closed form). Only asperities
-//! in contact enter the linear algebra; the moving forces of those leaving
-//! contact couple in through the right-hand side. A backtracking line search
-//! on `‖R‖²` globalises each step; if that fails, the load (or approach) is
-//! applied in adaptive steps from first contact. Convergence is declared on
-//! the max-norm of all residuals, load equation included, relative to the
-//! force scale ([`SolverOptions::tolerance`]); a solve that does not get there
-//! says so with its iterations and residual ([`SolveError::NotConverged`]).
+//! Newton–Raphson whose iterate is the set of local interpenetrations `δ_i`
+//! (with `P_i = P_i^law(δ_i)`) and `δ0`, on the equations
+//! `F_i = δ_i + u_i − δ0 + H_i = 0` (and `Σ P_i = W`). On the asperities in
+//! contact, scaled by `k_i = dP/dδ`, the Jacobian is the symmetric
+//! `(diag(1/k) + T_AA)`, bordered by the load equation under load control and
+//! solved for two right-hand sides (`−F_A` and `1`; the border then gives
+//! `Δδ0` in closed form); the others follow explicitly. Moving along each
+//! law's curve rather than its tangent, forces can neither go negative nor
+//! overshoot, so coupled layouts converge in a few iterations. Only
+//! asperities in contact enter the linear algebra. A backtracking line search
+//! on `Σ (k_i F_i)² + R_W²` globalises each step; if that fails, the load (or
+//! approach) is applied in adaptive steps from first contact. Convergence is
+//! declared on the force-form residuals `R_i = P_i − P_i^law(δ0 − H_i − u_i)`
+//! and the load equation, max-norm, relative to the force scale
+//! ([`SolverOptions::tolerance`]); a solve that does not get there says so
+//! with its iterations and residual ([`SolveError::NotConverged`]).
 //!
 //! Two ways to solve the active system ([`LinearSolver`]):
 //!

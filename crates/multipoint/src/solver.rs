@@ -191,12 +191,30 @@ pub fn solve_from<L: ContactLaw + Sync>(
             uncoupled_start(problem, control, &ws.u)
         }
     };
+    // Newton iterates on the local interpenetrations δ_i (see `newton`): from
+    // the warm state's, shifted to the imposed approach, or the uncoupled ones.
+    let mut delta: Vec<f64> = match initial {
+        Some(s) => {
+            let shift = match control {
+                Control::Approach(target) => target - s.approach,
+                Control::Load(_) => 0.0,
+            };
+            s.depths.iter().map(|d| d + shift).collect()
+        }
+        None => {
+            let start = match control {
+                Control::Approach(target) => target,
+                Control::Load(_) => d0,
+            };
+            problem.gaps().iter().map(|h| start - h).collect()
+        }
+    };
     if let Control::Approach(target) = control {
         d0 = target;
     }
     let mut iterations = 0;
     let direct = newton(
-        problem, &op, control, &mut p, &mut d0, tol, options, &mut ws,
+        problem, &op, control, &mut p, &mut delta, &mut d0, tol, options, &mut ws,
     )?;
     iterations += direct.iterations;
     if direct.converged {
@@ -225,6 +243,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
     };
     let (mut s, mut step) = (0.0_f64, 1.0 / 16.0);
     let (mut p_ok, mut d0_ok) = (vec![0.0; n], start_d0);
+    let mut delta_ok: Vec<f64> = problem.gaps().iter().map(|h| start_d0 - h).collect();
     let mut steps = 0;
     let mut last_residual = direct.residual;
     while s < 1.0 {
@@ -239,15 +258,18 @@ pub fn solve_from<L: ContactLaw + Sync>(
         let s_next = (s + step).min(1.0);
         let sub = target_at(s_next);
         if s > 0.0 {
-            let ratio = s_next / s;
-            p.iter_mut().zip(&p_ok).for_each(|(p, q)| *p = q * ratio);
+            delta.copy_from_slice(&delta_ok);
             d0 = d0_ok;
         } else {
             ws.u.iter_mut().for_each(|u| *u = 0.0);
             (p, d0) = uncoupled_start(problem, sub, &ws.u);
+            for (d, h) in delta.iter_mut().zip(problem.gaps()) {
+                *d = d0 - h;
+            }
         }
-        if let Control::Approach(d) = sub {
-            d0 = d;
+        if let Control::Approach(target) = sub {
+            delta.iter_mut().for_each(|d| *d += target - d0);
+            d0 = target;
         }
         let sub_scale = match sub {
             Control::Load(w) => w,
@@ -258,6 +280,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
             &op,
             sub,
             &mut p,
+            &mut delta,
             &mut d0,
             options.tolerance * sub_scale,
             options,
@@ -268,6 +291,7 @@ pub fn solve_from<L: ContactLaw + Sync>(
         if run.converged {
             s = s_next;
             p_ok.copy_from_slice(&p);
+            delta_ok.copy_from_slice(&delta);
             d0_ok = d0;
             step = (step * 2.0).min(1.0);
         } else {
@@ -402,7 +426,6 @@ struct Workspace {
     residual: Vec<f64>,
     stiffness: Vec<f64>,
     step: Vec<f64>,
-    trial: Vec<f64>,
     active: Vec<usize>,
     matrix: Mat<f64>,
     rhs: Mat<f64>,
@@ -417,6 +440,16 @@ struct Workspace {
     krylov: KrylovStats,
     /// Whether the last Newton direction came from a Krylov solve.
     last_was_krylov: bool,
+    /// `F_i = δ_i + u_i − δ0 + H_i`: how far the iterate's δ is from the one
+    /// its forces imply.
+    mismatch: Vec<f64>,
+    /// Weights of `F` in the line-search merit, fixed during one step.
+    weight: Vec<f64>,
+    /// The Newton change of δ.
+    depth_step: Vec<f64>,
+    /// `T · ΔP`, and the line search's trial δ.
+    coupled: Vec<f64>,
+    trial_depth: Vec<f64>,
 }
 
 impl Workspace {
@@ -426,7 +459,6 @@ impl Workspace {
             residual: vec![0.0; n],
             stiffness: vec![0.0; n],
             step: vec![0.0; n],
-            trial: vec![0.0; n],
             active: Vec::with_capacity(n),
             matrix: Mat::zeros(0, 0),
             rhs: Mat::zeros(n, 2),
@@ -437,6 +469,11 @@ impl Workspace {
             forcing: 0.1,
             krylov: KrylovStats::default(),
             last_was_krylov: false,
+            mismatch: vec![0.0; n],
+            weight: vec![1.0; n],
+            depth_step: vec![0.0; n],
+            coupled: vec![0.0; n],
+            trial_depth: vec![0.0; n],
         }
     }
 }
@@ -447,53 +484,74 @@ struct NewtonRun {
     residual: f64,
 }
 
-/// Residuals at `(p, d0)`: fills `ws.residual`, `ws.stiffness`, `ws.u`; returns
-/// (max-norm, sum of squares) including the load equation.
+/// State at `(δ, d0)`: forces `p = P^law(δ)` with their stiffnesses, the
+/// interaction displacements `u = T p`, the mismatch `F = δ + u − δ0 + H`
+/// (into `ws.mismatch`) and the true residuals `R_i = P_i − P_i^law(δ0 − H_i
+/// − u_i)` (into `ws.residual`). Returns the max-norm of `R` and of the load
+/// equation, the weighted merit `Σ (w_i F_i)² + R_W²`, and `R_W`.
+#[allow(clippy::too_many_arguments)]
 fn evaluate<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     op: &Ops<'_>,
     control: Control,
-    p: &[f64],
+    delta: &[f64],
     d0: f64,
+    p: &mut [f64],
     ws: &mut Workspace,
     par: Par,
-) -> (f64, f64) {
-    op.residual.apply(p, &mut ws.u, par);
+) -> (f64, f64, f64) {
     let (laws, gaps) = (problem.laws(), problem.gaps());
+    for i in 0..p.len() {
+        let law = laws[i].evaluate(delta[i]);
+        p[i] = law.force;
+        ws.stiffness[i] = law.stiffness;
+    }
+    op.residual.apply(p, &mut ws.u, par);
     let (mut max, mut sq) = (0.0_f64, 0.0);
     for i in 0..p.len() {
-        let law = laws[i].evaluate(d0 - gaps[i] - ws.u[i]);
-        let r = p[i] - law.force;
+        let f = delta[i] + ws.u[i] - d0 + gaps[i];
+        ws.mismatch[i] = f;
+        sq += (ws.weight[i] * f).powi(2);
+        let r = p[i] - laws[i].force(d0 - gaps[i] - ws.u[i]);
         ws.residual[i] = r;
-        ws.stiffness[i] = law.stiffness;
         max = max.max(r.abs());
-        sq += r * r;
     }
+    let mut load_residual = 0.0;
     if let Control::Load(w) = control {
-        let r = p.iter().sum::<f64>() - w;
-        max = max.max(r.abs());
-        sq += r * r;
+        load_residual = p.iter().sum::<f64>() - w;
+        max = max.max(load_residual.abs());
+        sq += load_residual * load_residual;
     }
     // A NaN anywhere must never pass for convergence.
     if max.is_nan() || sq.is_nan() {
-        return (f64::INFINITY, f64::INFINITY);
+        return (f64::INFINITY, f64::INFINITY, load_residual);
     }
-    (max, sq)
+    (max, sq, load_residual)
 }
 
+/// Newton–Raphson in the local interpenetrations: the iterate is `(δ, δ0)`
+/// with `P = P^law(δ)`, and the equations `F_i = δ_i + (T P)_i − δ0 + H_i = 0`
+/// (with `Σ P = W` under load control). Its Jacobian, scaled by `diag(k)`
+/// on the active rows, is the same symmetric `diag(1/k) + T` as the force
+/// form's, but a step moves along each law's curve instead of along its
+/// tangent: a force can neither go negative nor overshoot, which is what
+/// makes strongly coupled, dense layouts converge in a few iterations.
+/// Convergence is judged on the force-form residuals all the same.
 #[allow(clippy::too_many_arguments)]
 fn newton<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     op: &Ops<'_>,
     control: Control,
     p: &mut [f64],
+    delta: &mut [f64],
     d0: &mut f64,
     tol: f64,
     options: &SolverOptions,
     ws: &mut Workspace,
 ) -> Result<NewtonRun, SolveError> {
     let par = options.par;
-    let (mut max, mut merit) = evaluate(problem, op, control, p, *d0, ws, par);
+    let n = p.len();
+    let (mut max, _, mut load_residual) = evaluate(problem, op, control, delta, *d0, p, ws, par);
     // Eisenstat–Walker (choice 2, γ = 0.9, α = 2) forcing terms for Krylov.
     ws.forcing = 0.1;
     let mut tight = false;
@@ -505,6 +563,44 @@ fn newton<L: ContactLaw + Sync>(
                 iterations: iteration,
                 residual: max,
             });
+        }
+        // Merit weights for this step: k_i on contacts (F in force units),
+        // their mean elsewhere.
+        let (mut k_sum, mut k_count) = (0.0, 0usize);
+        for &k in &ws.stiffness {
+            if k > 0.0 {
+                k_sum += k;
+                k_count += 1;
+            }
+        }
+        if k_count == 0 {
+            if let Control::Load(_) = control {
+                // Nothing in contact: lower the tread until the deepest
+                // summit just touches, and carry on.
+                let deepest = delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let lift = deepest - deepest.abs() * 1e-3 - f64::MIN_POSITIVE;
+                delta.iter_mut().for_each(|d| *d -= lift);
+                *d0 -= lift;
+                (max, _, load_residual) = evaluate(problem, op, control, delta, *d0, p, ws, par);
+                if ws.stiffness.iter().all(|&k| k <= 0.0) {
+                    break;
+                }
+                continue;
+            }
+        }
+        let k_mean = if k_count > 0 {
+            k_sum / k_count as f64
+        } else {
+            1.0
+        };
+        let mut merit = load_residual * load_residual;
+        for i in 0..n {
+            let k = ws.stiffness[i];
+            ws.weight[i] = if k > 0.0 { k } else { k_mean };
+            merit += (ws.weight[i] * ws.mismatch[i]).powi(2);
+            // The linear solve reads −R_i/k_i on active rows and moves no
+            // inactive force: feed it the δ-form right-hand side.
+            ws.residual[i] = if k > 0.0 { k * ws.mismatch[i] } else { 0.0 };
         }
         let norm = merit.sqrt();
         if previous_norm.is_finite() && previous_norm > 0.0 {
@@ -521,27 +617,33 @@ fn newton<L: ContactLaw + Sync>(
         }
         previous_norm = norm;
         let Some(d0_step) = newton_step(op, control, p, ws, options)? else {
-            // Under load control with nothing in contact: re-seat the tread on
-            // the current interaction displacements and carry on.
-            (ws.trial, *d0) = uncoupled_start(problem, control, &ws.u);
-            p.copy_from_slice(&ws.trial);
-            (max, merit) = evaluate(problem, op, control, p, *d0, ws, par);
-            continue;
+            break;
         };
-        // Backtracking line search on the sum of squared residuals.
+        // δ changes by ΔP/k on contacts and, elsewhere, by what the new
+        // forces and approach imply: Δδ_i = −F_i − (T ΔP)_i + Δδ0.
+        op.residual.apply(&ws.step, &mut ws.coupled, par);
+        for i in 0..n {
+            let k = ws.stiffness[i];
+            ws.depth_step[i] = if k > 0.0 {
+                ws.step[i] / k
+            } else {
+                -ws.mismatch[i] - ws.coupled[i] + d0_step
+            };
+        }
+        // Backtracking line search on the weighted merit.
         let mut alpha = 1.0;
         let accepted = loop {
-            for ((t, &pi), &si) in ws.trial.iter_mut().zip(p.iter()).zip(&ws.step) {
-                *t = pi + alpha * si;
+            for i in 0..n {
+                ws.trial_depth[i] = delta[i] + alpha * ws.depth_step[i];
             }
             let trial_d0 = *d0 + alpha * d0_step;
-            let trial = std::mem::take(&mut ws.trial);
-            let (m, sq) = evaluate(problem, op, control, &trial, trial_d0, ws, par);
-            ws.trial = trial;
+            let trial = std::mem::take(&mut ws.trial_depth);
+            let (m, sq, rw) = evaluate(problem, op, control, &trial, trial_d0, p, ws, par);
+            ws.trial_depth = trial;
             if sq <= (1.0 - 1e-4 * alpha) * merit || m <= tol {
-                p.copy_from_slice(&ws.trial);
+                delta.copy_from_slice(&ws.trial_depth);
                 *d0 = trial_d0;
-                (max, merit) = (m, sq);
+                (max, load_residual) = (m, rw);
                 break true;
             }
             alpha *= 0.5;
@@ -550,8 +652,8 @@ fn newton<L: ContactLaw + Sync>(
             }
         };
         if !accepted {
-            // Restore residuals of the current iterate.
-            (max, merit) = evaluate(problem, op, control, p, *d0, ws, par);
+            // Restore the state of the current iterate.
+            (max, _, load_residual) = evaluate(problem, op, control, delta, *d0, p, ws, par);
             if ws.last_was_krylov && !tight {
                 // An inexact direction may be too rough: retry solved tightly.
                 tight = true;
