@@ -53,14 +53,17 @@ fn meshed_sphere_converges_to_the_closed_form_forces() {
     let exact = solve_with(PotentialLaw::sphere(sphere, rubber()));
     let mut previous = f64::INFINITY;
     for subdivisions in [3, 4, 5] {
-        let mesh = MeshAsperity::from_buffers(&MeshBuffers::icosphere(R, subdivisions).unwrap())
-            .unwrap();
+        let mesh =
+            MeshAsperity::from_buffers(&MeshBuffers::icosphere(R, subdivisions).unwrap()).unwrap();
         let table = Arc::new(TabulatedCap::from_geometry(&mesh, 0.5 * R, 200).unwrap());
         let law =
             PotentialLaw::new(table, rubber(), C_SPHERE, LocalRule::Hertz { radius: R }).unwrap();
         let diff = max_rel_diff(&solve_with(law), &exact);
         // Each subdivision quarters the geometric error (docs/asperity.md).
-        assert!(diff < previous, "n = {subdivisions}: {diff:.2e} ≥ {previous:.2e}");
+        assert!(
+            diff < previous,
+            "n = {subdivisions}: {diff:.2e} ≥ {previous:.2e}"
+        );
         previous = diff;
     }
     assert!(previous < 5e-3, "icosphere n = 5: {previous:.2e}");

@@ -6,11 +6,9 @@
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files.
 
-mod bem_validation;
 mod charts;
 mod film_cmd;
 mod output;
-mod pressure_image;
 mod scenario;
 mod statics;
 mod texture_cmd;
