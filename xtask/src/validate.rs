@@ -72,7 +72,10 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
 
     if args.scenario.is_none() {
         println!();
-        print!("{}", crate::film_cmd::synthetic_table(&film_rows(&rows), None)?);
+        print!(
+            "{}",
+            crate::film_cmd::synthetic_table(&film_rows(&rows), None)?
+        );
     }
 
     let written = write_static_outputs(&args.out, &scenario.name, &rows)?;
