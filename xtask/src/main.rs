@@ -1,7 +1,8 @@
 //! The tyreroad runner: `cargo xtask <command>`.
 //!
 //! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
-//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads;
+//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads, or a rolling
+//!   run when the scenario has a `[rolling]` section;
 //! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files.
@@ -9,6 +10,7 @@
 mod charts;
 mod film_cmd;
 mod output;
+mod rolling_cmd;
 mod scenario;
 mod statics;
 mod texture_cmd;
@@ -57,6 +59,19 @@ fn main() -> Result<()> {
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;
             let s = scenario::Scenario::parse(&text, &scenario.display().to_string())?;
+            if let Some(spec) = &s.rolling {
+                let road = if s.asperities.is_empty() {
+                    None
+                } else {
+                    let (positions, heights, laws) = s.asperity_parts()?;
+                    Some(rolling_cmd::RoadParts {
+                        positions,
+                        heights,
+                        laws,
+                    })
+                };
+                return rolling_cmd::run_rolling(s.material()?, road, spec, &out);
+            }
             let (rows, runs) = statics::run_static(&s)?;
             statics::print_table(&rows);
             for r in &runs {

@@ -31,6 +31,8 @@ pub struct Scenario {
     /// A static contact at one or more loads.
     #[serde(rename = "static")]
     pub static_case: Option<StaticSpec>,
+    /// A rolling run along a path (DESIGN §2.4).
+    pub rolling: Option<crate::rolling_cmd::RollingSpec>,
     /// The asperities.
     #[serde(rename = "asperity", default)]
     pub asperities: Vec<AsperitySpec>,
@@ -114,7 +116,11 @@ impl Scenario {
     pub fn parse(text: &str, origin: &str) -> Result<Self> {
         let scenario: Scenario =
             toml::from_str(text).with_context(|| format!("reading scenario {origin}"))?;
-        if scenario.asperities.is_empty() {
+        let synthetic_road = scenario
+            .rolling
+            .as_ref()
+            .is_some_and(|r| r.synthetic_road.is_some());
+        if scenario.asperities.is_empty() && !synthetic_road {
             bail!("scenario {origin}: no [[asperity]] given");
         }
         Ok(scenario)
@@ -152,6 +158,17 @@ impl Scenario {
 
     /// The multipoint problem: laws built, heights turned into gaps.
     pub fn problem(&self) -> Result<Problem<DynLaw>> {
+        let (positions, heights, laws) = self.asperity_parts()?;
+        Ok(Problem::from_heights(
+            positions,
+            &heights,
+            laws,
+            self.material()?,
+        )?)
+    }
+
+    /// Summit positions, heights and laws of the `[[asperity]]` list.
+    pub fn asperity_parts(&self) -> Result<(Vec<[f64; 2]>, Vec<f64>, Vec<DynLaw>)> {
         let material = self.material()?;
         let mut positions = Vec::with_capacity(self.asperities.len());
         let mut heights = Vec::with_capacity(self.asperities.len());
@@ -168,7 +185,7 @@ impl Scenario {
             heights.push(a.height.map_or(0.0, |h| h.value()));
             laws.push(build_law(shape, material).with_context(|| format!("asperity #{}", k + 1))?);
         }
-        Ok(Problem::from_heights(positions, &heights, laws, material)?)
+        Ok((positions, heights, laws))
     }
 }
 

@@ -60,6 +60,17 @@ dimension!(
     ]
 );
 
+dimension!(
+    SpeedDim,
+    "speed",
+    [
+        ("m/s", 1.0),
+        ("km/h", 1.0 / 3.6),
+        ("kmh", 1.0 / 3.6),
+        ("mph", 0.44704)
+    ]
+);
+
 /// A value of dimension `D`, held in SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quantity<D> {
@@ -177,6 +188,8 @@ pub type Pressure = Quantity<PressureDim>;
 pub type Force = Quantity<ForceDim>;
 /// An angle (rad).
 pub type Angle = Quantity<AngleDim>;
+/// A speed (m/s).
+pub type Speed = Quantity<SpeedDim>;
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,293 @@
+//! Checkpoint files: finished steps written atomically, keyed by a hash of
+//! the inputs, loaded on start so that a killed run resumes.
+//!
+//! One file per chunk, `<hash as 16 hex>-<first>-<end>.ckpt` in the
+//! checkpoint directory, rewritten whole (temporary file, `fsync`, rename)
+//! with every finished step of that chunk. Floats are stored as the hex of
+//! their bits, so a resumed run is bit-for-bit the same. Loading merges the
+//! records of every file of the same hash, so a resume may use a different
+//! chunking or thread count.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::fs;
+use std::io::Write as _;
+use std::path::Path;
+
+use tyreroad_contact_law::{ContactLaw, Material};
+
+use crate::run::{Carry, CheckpointOptions, RollingConfig, RollingControl, StepRecord};
+use crate::{Road, RollingError, Tread};
+
+const MAGIC: &str = "tyreroad-rolling-checkpoint 1";
+
+/// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
+/// `DefaultHasher`).
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= u64::from(x);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    fn f(&mut self, v: f64) {
+        self.bytes(&v.to_bits().to_le_bytes());
+    }
+    fn u(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+}
+
+/// Depths (m) at which each law is probed for the input hash.
+const PROBES: [f64; 5] = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
+
+/// Hash of everything that determines a run's results: the road (positions,
+/// heights, and each law's fingerprint — force and stiffness at 0.1 µm to
+/// 1 mm), the material and the configuration. Not the chunking nor the
+/// threads: they do not change the results.
+pub fn input_hash<L: ContactLaw>(
+    road: &Road<L>,
+    material: &Material,
+    config: &RollingConfig,
+) -> u64 {
+    let mut h = Fnv::new();
+    h.bytes(MAGIC.as_bytes());
+    h.u(road.len() as u64);
+    for ((p, z), law) in road.positions().iter().zip(road.heights()).zip(road.laws()) {
+        h.f(p[0]);
+        h.f(p[1]);
+        h.f(*z);
+        for d in PROBES {
+            let l = law.evaluate(d);
+            h.f(l.force);
+            h.f(l.stiffness);
+        }
+    }
+    h.f(material.youngs_modulus());
+    h.f(material.poisson_ratio());
+    match config.tread {
+        Tread::Block { length, width } => {
+            h.u(1);
+            h.f(length);
+            h.f(width);
+        }
+        Tread::Tyre {
+            radius_x,
+            radius_y,
+            length,
+            width,
+        } => {
+            h.u(2);
+            for v in [radius_x, radius_y, length, width] {
+                h.f(v);
+            }
+        }
+    }
+    for v in [
+        config.lateral,
+        config.start,
+        config.end,
+        config.step,
+        config.speed,
+        config.margin,
+        config.tolerance,
+    ] {
+        h.f(v);
+    }
+    h.u(config.max_iterations as u64);
+    let (tag, v) = match config.control {
+        RollingControl::Load(w) => (1, w),
+        RollingControl::Approach(d) => (2, d),
+        RollingControl::TreadHeight(z) => (3, z),
+    };
+    h.u(tag);
+    h.f(v);
+    h.u(config.sensors.len() as u64);
+    for s in &config.sensors {
+        h.bytes(s.name.as_bytes());
+        h.u(0xff);
+        for v in s.x.iter().chain(&s.y) {
+            h.f(*v);
+        }
+    }
+    h.0
+}
+
+fn file_name(hash: u64, (a, b): (usize, usize)) -> String {
+    format!("{hash:016x}-{a}-{b}.ckpt")
+}
+
+fn io_error(path: &Path, e: impl std::fmt::Display) -> RollingError {
+    RollingError::Checkpoint(format!("{}: {e}", path.display()))
+}
+
+/// Writes the records of chunk `[a, b)` atomically.
+pub(crate) fn save(
+    ck: &CheckpointOptions,
+    hash: u64,
+    chunk: (usize, usize),
+    sensors: usize,
+    records: &[StepRecord],
+    carry: Option<&Carry>,
+) -> Result<(), RollingError> {
+    fs::create_dir_all(&ck.dir).map_err(|e| io_error(&ck.dir, e))?;
+    let mut text = format!("{MAGIC} {hash:016x} {sensors}\n");
+    for r in records {
+        let _ = write!(
+            text,
+            "{} {} {} {} {}",
+            r.index,
+            r.contacts,
+            r.selected,
+            r.iterations,
+            r.sensor_forces.len()
+        );
+        for v in [
+            r.position,
+            r.time,
+            r.total_force,
+            r.approach,
+            r.contact_area,
+            r.clearance,
+        ]
+        .iter()
+        .chain(&r.sensor_forces)
+        {
+            let _ = write!(text, " {:016x}", v.to_bits());
+        }
+        text.push('\n');
+    }
+    // The warm-start state after the last step, so that a resumed chunk
+    // continues exactly as an uninterrupted one would (non-zero forces only).
+    if let (Some(c), Some(last)) = (carry, records.last()) {
+        let _ = write!(text, "state {} {:016x}", last.index, c.approach.to_bits());
+        for (&i, &p) in c.ids.iter().zip(&c.forces) {
+            if p != 0.0 {
+                let _ = write!(text, " {i}:{:016x}", p.to_bits());
+            }
+        }
+        text.push('\n');
+    }
+    let path = ck.dir.join(file_name(hash, chunk));
+    let tmp = ck.dir.join(format!(
+        ".{}.tmp-{}",
+        file_name(hash, chunk),
+        std::process::id()
+    ));
+    let result = (|| -> std::io::Result<()> {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        fs::rename(&tmp, &path)
+    })();
+    if let Err(e) = result {
+        let _ = fs::remove_file(&tmp);
+        return Err(io_error(&path, e));
+    }
+    Ok(())
+}
+
+/// What a checkpoint directory holds for one input hash.
+#[derive(Default)]
+pub(crate) struct Loaded {
+    /// Finished steps.
+    pub records: Vec<StepRecord>,
+    /// Warm-start states after some steps, by step index.
+    pub states: HashMap<usize, Carry>,
+}
+
+/// Every record and state of every checkpoint file of `hash` in the
+/// directory (none when the directory does not exist).
+pub(crate) fn load(
+    ck: &CheckpointOptions,
+    hash: u64,
+    sensors: usize,
+) -> Result<Loaded, RollingError> {
+    let entries = match fs::read_dir(&ck.dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Loaded::default()),
+        Err(e) => return Err(io_error(&ck.dir, e)),
+    };
+    let prefix = format!("{hash:016x}-");
+    let mut out = Loaded::default();
+    for entry in entries {
+        let entry = entry.map_err(|e| io_error(&ck.dir, e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !(name.starts_with(&prefix) && name.ends_with(".ckpt")) {
+            continue;
+        }
+        let path = entry.path();
+        let text = fs::read_to_string(&path).map_err(|e| io_error(&path, e))?;
+        parse(&text, hash, sensors, &mut out).map_err(|e| io_error(&path, e))?;
+    }
+    Ok(out)
+}
+
+fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), String> {
+    let mut lines = text.lines();
+    let header = format!("{MAGIC} {hash:016x} {sensors}");
+    if lines.next() != Some(header.as_str()) {
+        return Err("not a checkpoint of these inputs (header mismatch)".into());
+    }
+    for (n, line) in lines.enumerate() {
+        let bad = || format!("line {}: malformed record", n + 2);
+        if let Some(rest) = line.strip_prefix("state ") {
+            let (index, carry) = parse_state(rest).ok_or_else(bad)?;
+            out.states.insert(index, carry);
+            continue;
+        }
+        let mut it = line.split_ascii_whitespace();
+        let mut int =
+            || -> Result<usize, String> { it.next().and_then(|t| t.parse().ok()).ok_or_else(bad) };
+        let (index, contacts, selected, iterations, ns) = (int()?, int()?, int()?, int()?, int()?);
+        if ns != sensors {
+            return Err(bad());
+        }
+        let floats: Vec<f64> = it
+            .map(|t| u64::from_str_radix(t, 16).map(f64::from_bits))
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad())?;
+        if floats.len() != 6 + ns {
+            return Err(bad());
+        }
+        out.records.push(StepRecord {
+            index,
+            position: floats[0],
+            time: floats[1],
+            total_force: floats[2],
+            approach: floats[3],
+            contact_area: floats[4],
+            contacts,
+            selected,
+            iterations,
+            clearance: floats[5],
+            sensor_forces: floats[6..].to_vec(),
+        });
+    }
+    Ok(())
+}
+
+fn parse_state(rest: &str) -> Option<(usize, Carry)> {
+    let mut it = rest.split_ascii_whitespace();
+    let index = it.next()?.parse().ok()?;
+    let approach = f64::from_bits(u64::from_str_radix(it.next()?, 16).ok()?);
+    let (mut ids, mut forces) = (Vec::new(), Vec::new());
+    for t in it {
+        let (i, p) = t.split_once(':')?;
+        ids.push(i.parse().ok()?);
+        forces.push(f64::from_bits(u64::from_str_radix(p, 16).ok()?));
+    }
+    Some((
+        index,
+        Carry {
+            ids,
+            forces,
+            approach,
+        },
+    ))
+}
