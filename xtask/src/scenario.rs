@@ -12,6 +12,9 @@ use crate::units::{Angle, Force, Length, Pressure};
 /// A law usable in a mixed set of asperities.
 pub type DynLaw = Box<dyn ContactLaw + Send + Sync>;
 
+/// Summit positions (m), summit heights (m) and laws, in file order.
+pub type AsperityParts = (Vec<[f64; 2]>, Vec<f64>, Vec<DynLaw>);
+
 /// A scenario: a tread material, asperities, and what to solve.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -168,7 +171,7 @@ impl Scenario {
     }
 
     /// Summit positions, heights and laws of the `[[asperity]]` list.
-    pub fn asperity_parts(&self) -> Result<(Vec<[f64; 2]>, Vec<f64>, Vec<DynLaw>)> {
+    pub fn asperity_parts(&self) -> Result<AsperityParts> {
         let material = self.material()?;
         let mut positions = Vec::with_capacity(self.asperities.len());
         let mut heights = Vec::with_capacity(self.asperities.len());
@@ -222,6 +225,7 @@ fn build_law(shape: &ShapeSpec, material: Material) -> Result<DynLaw> {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
 
@@ -269,7 +273,6 @@ mod tests {
             "{:#}",
             s.problem()
                 .err()
-                .map(anyhow::Error::from)
                 .unwrap_or_else(|| anyhow::anyhow!("accepted"))
         );
         assert!(err.contains("Poisson"), "{err}");

@@ -192,6 +192,7 @@ pub type Angle = Quantity<AngleDim>;
 pub type Speed = Quantity<SpeedDim>;
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
 

@@ -116,7 +116,8 @@ fn film_rows(rows: &[StaticRow]) -> Vec<tyreroad_film::ModelRow> {
 /// Forces must be invariant under every mirror of the layout that maps
 /// summits onto summits (the paper's grid has the 8 symmetries of a square).
 fn symmetry_checks(rows: &[StaticRow]) -> Vec<Check> {
-    let maps: [(&str, fn(f64, f64) -> (f64, f64)); 4] = [
+    type Mirror = (&'static str, fn(f64, f64) -> (f64, f64));
+    let maps: [Mirror; 4] = [
         ("x ↦ −x", |x, y| (-x, y)),
         ("y ↦ −y", |x, y| (x, -y)),
         ("x ↔ y", |x, y| (y, x)),

@@ -573,20 +573,18 @@ fn newton<L: ContactLaw + Sync>(
                 k_count += 1;
             }
         }
-        if k_count == 0 {
-            if let Control::Load(_) = control {
-                // Nothing in contact: lower the tread until the deepest
-                // summit just touches, and carry on.
-                let deepest = delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let lift = deepest - deepest.abs() * 1e-3 - f64::MIN_POSITIVE;
-                delta.iter_mut().for_each(|d| *d -= lift);
-                *d0 -= lift;
-                (max, _, load_residual) = evaluate(problem, op, control, delta, *d0, p, ws, par);
-                if ws.stiffness.iter().all(|&k| k <= 0.0) {
-                    break;
-                }
-                continue;
+        if k_count == 0 && matches!(control, Control::Load(_)) {
+            // Nothing in contact: lower the tread until the deepest summit
+            // just touches, and carry on.
+            let deepest = delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let lift = deepest - deepest.abs() * 1e-3 - f64::MIN_POSITIVE;
+            delta.iter_mut().for_each(|d| *d -= lift);
+            *d0 -= lift;
+            (max, _, load_residual) = evaluate(problem, op, control, delta, *d0, p, ws, par);
+            if ws.stiffness.iter().all(|&k| k <= 0.0) {
+                break;
             }
+            continue;
         }
         let k_mean = if k_count > 0 {
             k_sum / k_count as f64
@@ -633,8 +631,13 @@ fn newton<L: ContactLaw + Sync>(
         // Backtracking line search on the weighted merit.
         let mut alpha = 1.0;
         let accepted = loop {
-            for i in 0..n {
-                ws.trial_depth[i] = delta[i] + alpha * ws.depth_step[i];
+            for ((t, &d), &step) in ws
+                .trial_depth
+                .iter_mut()
+                .zip(delta.iter())
+                .zip(&ws.depth_step)
+            {
+                *t = d + alpha * step;
             }
             let trial_d0 = *d0 + alpha * d0_step;
             let trial = std::mem::take(&mut ws.trial_depth);
