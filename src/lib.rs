@@ -10,3 +10,7 @@ pub use tyreroad_contact_law as contact_law;
 pub use tyreroad_film as film;
 /// Multipoint contact solver (`tyreroad-multipoint`).
 pub use tyreroad_multipoint as multipoint;
+
+/// Two-scale local pressures: each asperity's real shape solved alone by the
+/// BEM under its multipoint force, assembled into one pressure map.
+pub mod two_scale;

@@ -7,9 +7,11 @@
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files.
 
+mod bem_validation;
 mod charts;
 mod film_cmd;
 mod output;
+mod pressure_image;
 mod rolling_cmd;
 mod scenario;
 mod statics;

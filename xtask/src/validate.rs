@@ -78,7 +78,17 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         );
     }
 
-    let written = write_static_outputs(&args.out, &scenario.name, &rows)?;
+    let mut written = write_static_outputs(&args.out, &scenario.name, &rows)?;
+    if args.scenario.is_none() {
+        // The model measured against the full-grid BEM reference.
+        let report = crate::bem_validation::run(&rows, &scenario, &args.out)?;
+        checks.extend(report.checks.into_iter().map(|c| Check {
+            name: c.name,
+            passed: c.passed,
+            detail: c.detail,
+        }));
+        written.extend(report.written);
+    }
     println!("\nChecks:");
     let mut failed = 0;
     for c in &checks {
