@@ -11,6 +11,4 @@ pub use tyreroad_film as film;
 /// Multipoint contact solver (`tyreroad-multipoint`).
 pub use tyreroad_multipoint as multipoint;
 
-/// Two-scale local pressures: each asperity's real shape solved alone by the
-/// BEM under its multipoint force, assembled into one pressure map.
 pub mod two_scale;
