@@ -219,7 +219,9 @@ pub struct RoadParts<L> {
 
 /// Runs `[rolling]` on the scenario's asperities (`road`), or on
 /// `spec.synthetic_road` when `road` is `None` (one of the two must be
-/// given), and writes into `out`: `time_signals.csv`, `third_octave.csv`,
+/// given), and writes into `out`: `time_signals.csv`, `third_octave.csv`
+/// (`band_centre_hz,level_db`), `third_octave_bands.csv` (exact centres and
+/// sensor levels),
 /// `sensors.csv` (when sensors are defined) and SVG charts. Shows a
 /// progress bar; with `checkpoint = true` a killed run resumes from
 /// `out/checkpoint/`.
@@ -342,15 +344,21 @@ fn write_outputs(
     let sensor_levels: Vec<Vec<rolling::BandLevel>> = (0..config.sensors.len())
         .map(|k| spectrum(&result.sensor(k), reference))
         .collect::<Result<_, _>>()?;
-    let mut header = String::from("band_centre_hz,level_db,exact_centre_hz");
+    // third_octave.csv keeps exactly the two columns noise models read; the
+    // exact centres and the sensors' levels go beside it.
+    let mut to = Csv::new("band_centre_hz,level_db");
+    let mut header = String::from("band_centre_hz,exact_centre_hz");
     for s in &config.sensors {
         header.push_str(&format!(",{}_db", s.name));
     }
-    let mut to = Csv::new(&header);
+    let mut detail = Csv::new(&header);
     for (b, level) in levels.iter().enumerate() {
-        let mut row = vec![
+        to.row(&[
             format!("{}", level.band.nominal),
             format!("{:.3}", level.level_db),
+        ]);
+        let mut row = vec![
+            format!("{}", level.band.nominal),
             format!("{:.3}", level.band.centre),
         ];
         row.extend(
@@ -358,9 +366,10 @@ fn write_outputs(
                 .iter()
                 .map(|l| format!("{:.3}", l[b].level_db)),
         );
-        to.row(&row);
+        detail.row(&row);
     }
     to.write(&out.join("third_octave.csv"))?;
+    detail.write(&out.join("third_octave_bands.csv"))?;
 
     if !config.sensors.is_empty() {
         let mut header = String::from("time_s,position_m");
@@ -548,7 +557,7 @@ mod tests {
         );
         assert_eq!(ts.lines().count(), 32);
         let to = std::fs::read_to_string(out.join("third_octave.csv"))?;
-        assert!(to.starts_with("band_centre_hz,level_db"));
+        assert!(to.starts_with("band_centre_hz,level_db\n"));
         for f in [
             "sensors.csv",
             "time_signals.svg",
