@@ -5,17 +5,14 @@
 //! project's 2-core machine.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use tyreroad::asperity::Sphere;
-use tyreroad::contact_law::{Material, PotentialLaw};
+use tyreroad::contact_law::PotentialLaw;
 use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
 
-type Law = PotentialLaw<Sphere>;
+#[path = "common/mod.rs"]
+mod common;
 
-fn rubber() -> Material {
-    Material::new(6.54e6, 0.5).expect("valid material")
-}
+use common::{Law, random_field, rubber, tyre_like_load};
 
 fn paper_grid() -> Problem<Law> {
     let ball = PotentialLaw::sphere(Sphere::new(5e-3).expect("radius"), rubber());
@@ -23,38 +20,6 @@ fn paper_grid() -> Problem<Law> {
         .map(|k| [((k % 5) as f64 - 2.0) * 0.01, ((k / 5) as f64 - 2.0) * 0.01])
         .collect();
     Problem::new(positions, vec![0.0; 25], vec![ball; 25], rubber()).expect("problem")
-}
-
-/// N balls at a mean spacing of 3 mm (road-like chipping density), radii
-/// 1–5 mm, summit heights spread over 0.5 mm.
-pub fn random_field(n: usize, seed: u64) -> Problem<Law> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    // Chippings do not overlap: summits on a 3 mm grid jittered by ±1 mm (a
-    // uniform scatter puts summits microns apart, where the point-force
-    // coupling 1/r swamps the laws and the model itself breaks down).
-    let columns = (n as f64).sqrt().ceil() as usize;
-    let positions = (0..n)
-        .map(|k| {
-            let (i, j) = ((k % columns) as f64, (k / columns) as f64);
-            [
-                3e-3 * i + 2e-3 * (rng.random::<f64>() - 0.5),
-                3e-3 * j + 2e-3 * (rng.random::<f64>() - 0.5),
-            ]
-        })
-        .collect();
-    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
-    let laws = (0..n)
-        .map(|_| {
-            let r = 1e-3 + 4e-3 * rng.random::<f64>();
-            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
-}
-
-/// A load giving a contact pressure of 0.2 MPa over the field, like a tyre.
-fn tyre_like_load(n: usize) -> f64 {
-    0.2e6 * 9e-6 * n as f64
 }
 
 fn bench_paper(c: &mut Criterion) {

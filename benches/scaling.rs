@@ -10,43 +10,14 @@
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-use tyreroad::asperity::Sphere;
-use tyreroad::contact_law::{Material, PotentialLaw};
 use tyreroad::multipoint::{
-    Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, Problem, SolverOptions,
-    solve,
+    Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, SolverOptions, solve,
 };
 
-type Law = PotentialLaw<Sphere>;
+#[path = "common/mod.rs"]
+mod common;
 
-fn rubber() -> Material {
-    Material::new(6.54e6, 0.5).expect("valid material")
-}
-
-/// As `random_field` in benches/multipoint.rs: 3 mm mean spacing, radii
-/// 1–5 mm, heights spread over 0.5 mm.
-fn random_field(n: usize, seed: u64) -> Problem<Law> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let side = 3e-3 * (n as f64).sqrt();
-    let positions = (0..n)
-        .map(|_| [rng.random::<f64>() * side, rng.random::<f64>() * side])
-        .collect();
-    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
-    let laws = (0..n)
-        .map(|_| {
-            let r = 1e-3 + 4e-3 * rng.random::<f64>();
-            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
-}
-
-/// 0.2 MPa over the field, like a tyre.
-fn load(n: usize) -> f64 {
-    0.2e6 * 9e-6 * n as f64
-}
+use common::{random_field, tyre_like_load as load};
 
 fn options(solver: LinearSolver, par: Par) -> SolverOptions {
     SolverOptions {
