@@ -1,8 +1,9 @@
 //! The tyreroad runner: `cargo xtask <command>`.
 //!
 //! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
-//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads, or a rolling
-//!   run when the scenario has a `[rolling]` section;
+//! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads (on its
+//!   `[[asperity]]` list or its `[texture]`), or a rolling run when the
+//!   scenario has a `[rolling]` section;
 //! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files.
@@ -16,6 +17,7 @@ mod rolling_cmd;
 mod scenario;
 mod statics;
 mod texture_cmd;
+mod texture_road;
 mod units;
 mod validate;
 
@@ -73,6 +75,10 @@ fn main() -> Result<()> {
                     })
                 };
                 return rolling_cmd::run_rolling(s.material()?, road, spec, &out);
+            }
+            if s.texture.is_some() {
+                let base = scenario.parent().unwrap_or(std::path::Path::new("."));
+                return texture_road::run_texture_static(&s, base, &out);
             }
             let (rows, runs) = statics::run_static(&s)?;
             statics::print_table(&rows);

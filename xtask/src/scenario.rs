@@ -1,12 +1,16 @@
 //! Scenario files: TOML, units written out ("5 mm"), unknown keys refused
 //! with their name and line.
 
+use std::path::Path;
+
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 use tyreroad_asperity::{Cone, EllipticParaboloid, Sphere};
 use tyreroad_contact_law::{C_CONE, C_SPHERE, ContactLaw, LocalRule, Material, PotentialLaw};
 use tyreroad_multipoint::{Problem, SolverOptions};
+use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine};
 
+use crate::texture_road::TextureRoadOptions;
 use crate::units::{Angle, Force, Length, Pressure};
 
 /// A law usable in a mixed set of asperities.
@@ -39,6 +43,184 @@ pub struct Scenario {
     /// The asperities.
     #[serde(rename = "asperity", default)]
     pub asperities: Vec<AsperitySpec>,
+    /// A road texture whose asperities replace the `[[asperity]]` list.
+    pub texture: Option<TextureSpec>,
+}
+
+/// `[texture]`: a height map, read (`file`) or synthesised (`[texture.synth]`),
+/// and how it is split into asperities.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureSpec {
+    /// A height-map file (X3P, ASCII grid, xyz, `.sur`), relative to the
+    /// scenario file's directory.
+    pub file: Option<String>,
+    /// A synthetic surface.
+    pub synth: Option<SynthSpec>,
+    /// Smallest prominence of an asperity (summit − key saddle), e.g. "0.2 mm".
+    pub min_prominence: Length,
+    /// Smallest basin area of an asperity, e.g. "2 mm2".
+    pub min_area: Area,
+    /// Shape constant c of the potential law (default 0.36).
+    pub constant: Option<f64>,
+}
+
+/// `[texture.synth]`: the generator, its grid and seed.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SynthSpec {
+    /// Chippings on a base plane (`tyreroad_texture::Aggregate::new`).
+    Aggregate {
+        /// Points along x.
+        nx: usize,
+        /// Points along y.
+        ny: usize,
+        /// Grid spacing (both directions).
+        spacing: Length,
+        /// Grading: "4/6" (4/6.3 mm) or "6/10".
+        grading: String,
+        /// Chipping shape: "ellipsoid" (default) or "polyhedron".
+        shape: Option<String>,
+        /// Generator seed.
+        seed: u64,
+    },
+    /// A self-affine Gaussian surface (`tyreroad_texture::SelfAffine`).
+    SelfAffine {
+        /// Points along x.
+        nx: usize,
+        /// Points along y.
+        ny: usize,
+        /// Grid spacing (both directions).
+        spacing: Length,
+        /// Sq.
+        rms: Length,
+        /// Hurst exponent H.
+        hurst: f64,
+        /// Roll-off wavelength.
+        lambda_long: Length,
+        /// Cut-off wavelength.
+        lambda_short: Length,
+        /// Generator seed.
+        seed: u64,
+    },
+}
+
+/// An area written with its unit: "2 mm2", "0.5 cm²", "1e-6 m2".
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Area(f64);
+
+impl Area {
+    /// The area in m².
+    pub fn value(self) -> f64 {
+        self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Area {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let text = String::deserialize(d)?;
+        let t = text.trim();
+        // The number may hold an exponent `e`; the unit starts after it.
+        let split = t
+            .find(|c: char| !(c.is_ascii_digit() || "+-.eE ".contains(c)))
+            .unwrap_or(t.len());
+        let (num, unit) = (t[..split].trim(), t[split..].trim());
+        let factor = match unit {
+            "m2" | "m²" => 1.0,
+            "cm2" | "cm²" => 1e-4,
+            "mm2" | "mm²" => 1e-6,
+            _ => {
+                return Err(serde::de::Error::custom(format!(
+                    "unknown area unit `{unit}` in \"{t}\" (m2, cm2, mm2)"
+                )));
+            }
+        };
+        let v: f64 = num
+            .parse()
+            .map_err(|_| serde::de::Error::custom(format!("bad area \"{t}\"")))?;
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(serde::de::Error::custom(format!(
+                "area \"{t}\" must be ≥ 0"
+            )));
+        }
+        Ok(Area(v * factor))
+    }
+}
+
+impl TextureSpec {
+    /// The height map: `file` read relative to `base_dir`, or synthesised.
+    pub fn height_map(&self, base_dir: &Path) -> Result<HeightMap> {
+        match (&self.file, &self.synth) {
+            (Some(file), None) => {
+                let path = base_dir.join(file);
+                tyreroad_texture::read_any(&path)
+                    .with_context(|| format!("[texture] reading {}", path.display()))
+            }
+            (None, Some(synth)) => synth.height_map().context("[texture.synth]"),
+            (Some(_), Some(_)) => bail!("[texture]: give `file` or [texture.synth], not both"),
+            (None, None) => bail!("[texture]: give `file` or [texture.synth]"),
+        }
+    }
+
+    /// Segmentation thresholds and law constant.
+    pub fn road_options(&self) -> TextureRoadOptions {
+        let mut o = TextureRoadOptions::new(self.min_prominence.value(), self.min_area.value());
+        o.constant = self.constant.unwrap_or(C_SPHERE);
+        o
+    }
+}
+
+impl SynthSpec {
+    /// The synthetic height map.
+    pub fn height_map(&self) -> Result<HeightMap> {
+        Ok(match self {
+            SynthSpec::Aggregate {
+                nx,
+                ny,
+                spacing,
+                grading,
+                shape,
+                seed,
+            } => {
+                let g = match grading.as_str() {
+                    "4/6" | "4/6.3" => Aggregate::grading_4_6(),
+                    "6/10" => Aggregate::grading_6_10(),
+                    other => bail!("unknown grading `{other}` (4/6, 6/10)"),
+                };
+                let h = spacing.value();
+                let mut p = Aggregate::new(*nx, *ny, h, h, g, *seed);
+                p.shape = match shape.as_deref() {
+                    None | Some("ellipsoid") => ChipShape::Ellipsoid,
+                    Some("polyhedron") => ChipShape::Polyhedron {
+                        cuts: 6,
+                        rounding: 0.1,
+                    },
+                    Some(other) => bail!("unknown shape `{other}` (ellipsoid, polyhedron)"),
+                };
+                tyreroad_texture::aggregate(&p)?
+            }
+            SynthSpec::SelfAffine {
+                nx,
+                ny,
+                spacing,
+                rms,
+                hurst,
+                lambda_long,
+                lambda_short,
+                seed,
+            } => tyreroad_texture::self_affine(&SelfAffine {
+                nx: *nx,
+                ny: *ny,
+                dx: spacing.value(),
+                dy: spacing.value(),
+                rms: rms.value(),
+                hurst: *hurst,
+                lambda_long: lambda_long.value(),
+                lambda_short: lambda_short.value(),
+                seed: *seed,
+            })?,
+        })
+    }
 }
 
 /// `[material]`
@@ -123,7 +305,10 @@ impl Scenario {
             .rolling
             .as_ref()
             .is_some_and(|r| r.synthetic_road.is_some());
-        if scenario.asperities.is_empty() && !synthetic_road {
+        if scenario.texture.is_some() && !scenario.asperities.is_empty() {
+            bail!("scenario {origin}: [texture] and [[asperity]] both given: choose one");
+        }
+        if scenario.asperities.is_empty() && !synthetic_road && scenario.texture.is_none() {
             bail!("scenario {origin}: no [[asperity]] given");
         }
         Ok(scenario)
@@ -263,6 +448,58 @@ mod tests {
         let text = PAPER.replacen("\"5 mm\"", "\"5 parsecs\"", 1);
         let err = format!("{:#}", Scenario::parse(&text, "t").unwrap_err());
         assert!(err.contains("unknown length unit `parsecs`"), "{err}");
+    }
+
+    const TEXTURE: &str = r#"
+name = "tex"
+[material]
+youngs_modulus = "6.54 MPa"
+poisson_ratio = 0.5
+[static]
+loads = ["50 N"]
+[texture]
+min_prominence = "0.2 mm"
+min_area = "2 mm2"
+[texture.synth]
+kind = "aggregate"
+nx = 100
+ny = 80
+spacing = "0.1 mm"
+grading = "4/6"
+seed = 3
+"#;
+
+    #[test]
+    fn texture_section_parses_without_asperities() -> Result<()> {
+        let s = Scenario::parse(TEXTURE, "tex")?;
+        assert!(s.asperities.is_empty());
+        let t = s.texture.as_ref().unwrap();
+        assert_eq!(t.min_prominence.value(), 0.2e-3);
+        assert!((t.min_area.value() - 2e-6).abs() < 1e-18);
+        let a: Area = toml::from_str::<toml::Value>("a = \"1.5e-6 m2\"")?["a"]
+            .clone()
+            .try_into()?;
+        assert!((a.value() - 1.5e-6).abs() < 1e-20);
+        assert_eq!(t.road_options().constant, C_SPHERE);
+        let map = t.height_map(Path::new("."))?;
+        assert_eq!((map.nx(), map.ny()), (100, 80));
+        Ok(())
+    }
+
+    #[test]
+    fn texture_unknown_keys_and_units_are_refused() {
+        let text = TEXTURE.replacen("seed = 3", "seed = 3\nsed = 4", 1);
+        let err = format!("{:#}", Scenario::parse(&text, "t").unwrap_err());
+        assert!(err.contains("sed"), "{err}");
+        let text = TEXTURE.replacen("min_area", "min_areas", 1);
+        let err = format!("{:#}", Scenario::parse(&text, "t").unwrap_err());
+        assert!(err.contains("min_areas"), "{err}");
+        let text = TEXTURE.replacen("\"2 mm2\"", "\"2 acres\"", 1);
+        let err = format!("{:#}", Scenario::parse(&text, "t").unwrap_err());
+        assert!(err.contains("acres"), "{err}");
+        let text = format!("{TEXTURE}\n[[asperity]]\nx = \"0 mm\"\ny = \"0 mm\"\n");
+        let err = format!("{:#}", Scenario::parse(&text, "t").unwrap_err());
+        assert!(err.contains("both given"), "{err}");
     }
 
     #[test]

@@ -5,7 +5,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use tyreroad_multipoint::{Control, solve};
+use tyreroad_contact_law::{ContactLaw, LocalContact};
+use tyreroad_multipoint::{Control, Problem, SolverOptions, solve};
 
 use crate::charts::{Series, line_chart};
 use crate::output::Csv;
@@ -59,15 +60,39 @@ pub fn run_static(scenario: &Scenario) -> Result<(Vec<StaticRow>, Vec<LoadRun>)>
         bail!("scenario {}: [static] loads is empty", scenario.name);
     }
     let problem = scenario.problem()?;
-    let options = scenario.solver_options();
-    let ids = scenario.ids();
-    let (mut rows, mut runs) = (Vec::new(), Vec::new());
-    for load in spec.loads.iter().map(|l| l.value()) {
+    let loads: Vec<f64> = spec.loads.iter().map(|l| l.value()).collect();
+    let (rows, runs, _) = run_static_problem(
+        &scenario.name,
+        &problem,
+        &scenario.ids(),
+        &loads,
+        &scenario.solver_options(),
+    )?;
+    Ok((rows, runs))
+}
+
+/// Rows, per-load reports and per-load local contacts of a static run.
+pub type StaticRuns = (Vec<StaticRow>, Vec<LoadRun>, Vec<Vec<LocalContact>>);
+
+/// Solves a prepared problem at each of `loads`; `ids[k]` labels asperity
+/// `k`. Also returns each load's local contacts (for pressure maps).
+pub fn run_static_problem<L: ContactLaw + Sync>(
+    name: &str,
+    problem: &Problem<L>,
+    ids: &[u32],
+    loads: &[f64],
+    options: &SolverOptions,
+) -> Result<StaticRuns> {
+    if ids.len() != problem.len() {
+        bail!("{name}: {} ids for {} asperities", ids.len(), problem.len());
+    }
+    let (mut rows, mut runs, mut locals) = (Vec::new(), Vec::new(), Vec::new());
+    for &load in loads {
         let start = Instant::now();
-        let s = solve(&problem, Control::Load(load), &options)
-            .with_context(|| format!("solving {} at {load} N", scenario.name))?;
+        let s = solve(problem, Control::Load(load), options)
+            .with_context(|| format!("solving {name} at {load} N"))?;
         let seconds = start.elapsed().as_secs_f64();
-        let contacts = s.local_contacts(&problem);
+        let contacts = s.local_contacts(problem);
         for (k, (&[x, y], c)) in problem.positions().iter().zip(&contacts).enumerate() {
             rows.push(StaticRow {
                 load,
@@ -87,8 +112,9 @@ pub fn run_static(scenario: &Scenario) -> Result<(Vec<StaticRow>, Vec<LoadRun>)>
             residual: s.residual,
             seconds,
         });
+        locals.push(contacts);
     }
-    Ok((rows, runs))
+    Ok((rows, runs, locals))
 }
 
 /// Writes `DIR/NAME.csv` and the charts `DIR/NAME_forces.svg`,
