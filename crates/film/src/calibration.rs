@@ -300,11 +300,7 @@ impl Calibration {
         };
         let mut header: Option<(Response, f64, f64)> = None;
         let mut pairs = Vec::new();
-        for (n, raw) in text.lines().enumerate() {
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
+        for (n, line) in crate::data_lines(text) {
             let cols: Vec<&str> = line.split(',').map(str::trim).collect();
             if cols.len() != 2 {
                 return Err(csv_err(
@@ -497,11 +493,7 @@ impl LlwChart {
             pressure_pa: Vec::new(),
             density: Default::default(),
         };
-        for (n, raw) in text.lines().enumerate() {
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
+        for (n, line) in crate::data_lines(text) {
             let cols: Vec<&str> = line.split(',').map(str::trim).collect();
             if !seen_header {
                 if cols != HEADER {

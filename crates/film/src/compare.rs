@@ -37,11 +37,7 @@ pub fn parse_model_csv(text: &str, source: &Path) -> Result<Vec<ModelRow>> {
     };
     let mut header = false;
     let mut rows = Vec::new();
-    for (n, raw) in text.lines().enumerate() {
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
+    for (n, line) in crate::data_lines(text) {
         if !header {
             if line != MODEL_CSV_HEADER {
                 return Err(csv_err(

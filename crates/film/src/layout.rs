@@ -84,11 +84,7 @@ impl Layout {
         };
         let mut header = false;
         let mut v = Vec::new();
-        for (n, raw) in text.lines().enumerate() {
-            let line = raw.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
+        for (n, line) in crate::data_lines(text) {
             let cols: Vec<&str> = line.split(',').map(str::trim).collect();
             if !header {
                 if cols != ["indenter", "x_m", "y_m"] {

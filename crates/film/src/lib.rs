@@ -110,6 +110,15 @@ mod layout;
 mod scan;
 mod synthetic;
 
+/// The data lines of a small CSV text, with their 0-based line index: trimmed,
+/// blank lines and `#` comments skipped (every CSV this crate reads).
+pub(crate) fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines()
+        .map(str::trim)
+        .enumerate()
+        .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'))
+}
+
 pub use analysis::{
     AnalysisOptions, Connectivity, Detection, Ellipse, Estimator, HertzFit, Print, Threshold,
     analyse, connected_components, histogram, otsu,
