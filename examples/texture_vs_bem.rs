@@ -8,16 +8,13 @@
 //!
 //! `cargo run --release --example texture_vs_bem` (docs/validation.md).
 
-use std::sync::Arc;
 use std::time::Instant;
 
 use tyreroad::bem::{self, BemOptions, Grid};
-use tyreroad::contact_law::{C_SPHERE, LocalRule, Material, PotentialLaw};
+use tyreroad::contact_law::Material;
 use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
-use tyreroad_texture::{
-    Aggregate, CapOptions, HeightMap, SegmentOptions, SelfAffine, UNLABELLED, aggregate,
-    asperity_cap, segment, self_affine,
-};
+use tyreroad::texture::{Aggregate, HeightMap, SelfAffine, UNLABELLED, aggregate, self_affine};
+use tyreroad::texture_road::{CapDepth, TextureRoadOptions, texture_road};
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
 
@@ -27,42 +24,22 @@ const CELL: f64 = 1e-4;
 fn compare(name: &str, map: &HeightMap, loads: &[f64], deep: bool) -> Res<()> {
     let m = Material::new(6.54e6, 0.5)?;
     let bem_m = bem::Material::new(6.54e6, 0.5)?;
-    let seg = segment(
-        map,
-        &SegmentOptions {
-            min_prominence: 0.2e-3,
-            min_area: 2e-6,
-        },
-    )?;
-    // The bridge of xtask/src/texture_road.rs.
-    let (mut positions, mut heights, mut laws, mut index) = (vec![], vec![], vec![], vec![]);
-    for (k, a) in seg.asperities().iter().enumerate() {
-        let low = a
-            .cells
-            .iter()
-            .filter(|&&c| map.valid()[c])
-            .map(|&c| map.heights()[c])
-            .fold(f64::INFINITY, f64::min);
-        let cap = CapOptions {
-            max_depth: deep.then_some(a.summit_height - low),
-            ..CapOptions::default()
-        };
-        let Ok(table) = asperity_cap(map, &seg, k, &cap) else {
-            continue;
-        };
-        laws.push(PotentialLaw::new(
-            Arc::new(table),
-            m,
-            C_SPHERE,
-            LocalRule::HalfSection,
-        )?);
-        positions.push(a.summit);
-        heights.push(a.summit_height);
-        index.push(k);
-    }
-    let n = positions.len();
-    let summit_top = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let problem = Problem::from_heights(positions, &heights, laws, m)?;
+    let mut options = TextureRoadOptions::new(0.2e-3, 2e-6);
+    options.depth = if deep {
+        CapDepth::BasinBottom
+    } else {
+        CapDepth::GridCapRange
+    };
+    let road = texture_road(map, m, &options)?;
+    let n = road.len();
+    let summit_top = road
+        .heights
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let seg = &road.segmentation;
+    let index = road.asperity_index.clone();
+    let problem = Problem::from_heights(road.positions, &road.heights, road.laws, m)?;
 
     // Labels for the BEM: segmentation index → multipoint index; missing
     // points and dropped asperities → the spare label n.

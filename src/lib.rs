@@ -10,5 +10,11 @@ pub use tyreroad_contact_law as contact_law;
 pub use tyreroad_film as film;
 /// Multipoint contact solver (`tyreroad-multipoint`).
 pub use tyreroad_multipoint as multipoint;
+/// Rolling-time assembly (`tyreroad-rolling`).
+pub use tyreroad_rolling as rolling;
+/// Road textures: height maps, synthesis, indicators, segmentation
+/// (`tyreroad-texture`).
+pub use tyreroad_texture as texture;
 
+pub mod texture_road;
 pub mod two_scale;

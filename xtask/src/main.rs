@@ -17,7 +17,7 @@ mod rolling_cmd;
 mod scenario;
 mod statics;
 mod texture_cmd;
-mod texture_road;
+mod texture_static;
 mod units;
 mod validate;
 
@@ -78,7 +78,7 @@ fn main() -> Result<()> {
             }
             if s.texture.is_some() {
                 let base = scenario.parent().unwrap_or(std::path::Path::new("."));
-                return texture_road::run_texture_static(&s, base, &out);
+                return texture_static::run_texture_static(&s, base, &out);
             }
             let (rows, runs) = statics::run_static(&s)?;
             statics::print_table(&rows);

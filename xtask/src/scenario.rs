@@ -10,8 +10,8 @@ use tyreroad_contact_law::{C_CONE, C_SPHERE, ContactLaw, LocalRule, Material, Po
 use tyreroad_multipoint::{Problem, SolverOptions};
 use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine};
 
-use crate::texture_road::TextureRoadOptions;
 use crate::units::{Angle, Force, Length, Pressure};
+use tyreroad::texture_road::TextureRoadOptions;
 
 /// A law usable in a mixed set of asperities.
 pub type DynLaw = Box<dyn ContactLaw + Send + Sync>;

@@ -1,0 +1,426 @@
+//! From a road texture to the multipoint model, and back to its real shapes.
+//!
+//! A measured or synthesised height map ([`crate::texture::HeightMap`]) is
+//! split into asperity basins ([`crate::texture::segment`]); each basin's
+//! cap measures `Ω(δ)`, `Σ(δ)`, `Γ(δ)` are tabulated on the grid
+//! ([`crate::texture::asperity_cap`], smooth at contact onset) and get the
+//! interaction-potential law with the half-section local rule
+//! ([`crate::contact_law::PotentialLaw`], `LocalRule::HalfSection`). The
+//! result feeds [`crate::multipoint::Problem::from_heights`] for a static
+//! contact, or a rolling road.
+//!
+//! The way back, for the two-scale pressure map ([`crate::two_scale`]):
+//! [`TextureRoad::local_shapes`] describes each asperity by the texture's own
+//! surface restricted to its basin, so the local BEM solves see the real
+//! (flat-topped, skewed, ridged) chipping, not the equivalent paraboloid.
+//!
+//! Like [`crate::two_scale`], this module is where the layers meet: the
+//! texture crate knows nothing of laws, the laws nothing of textures.
+//!
+//! # Invariants
+//! - Asperities keep the segmentation's order (highest summit first);
+//!   [`TextureRoad::asperity_index`] maps each kept one back to the
+//!   segmentation.
+//! - An asperity without a depth range (a summit at the height of its
+//!   basin's boundary, e.g. one point of a plateau) is dropped, never given a
+//!   degenerate law.
+
+use std::sync::Arc;
+
+use crate::asperity::{CapGeometry, TabulatedCap};
+use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
+use crate::texture::{
+    Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
+    asperity_cap, segment,
+};
+use crate::two_scale::LocalShape;
+
+/// The contact law of one texture asperity.
+pub type TextureLaw = PotentialLaw<Arc<TabulatedCap>>;
+
+/// Errors of [`texture_road`].
+#[derive(Debug, thiserror::Error)]
+pub enum TextureRoadError {
+    /// Segmentation or cap tabulation failed.
+    #[error(transparent)]
+    Texture(#[from] TextureError),
+    /// A law could not be built from a cap.
+    #[error("asperity {index}: {source}")]
+    Law {
+        /// Index in the segmentation.
+        index: usize,
+        /// The law's error.
+        source: LawError,
+    },
+    /// No asperity has a depth range.
+    #[error("the texture has no asperity with a depth range ({segmented} segmented)")]
+    NoAsperity {
+        /// Number of asperities the segmentation found.
+        segmented: usize,
+    },
+    /// Invalid options or a map that does not match the segmentation.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+}
+
+/// How deep each asperity's cap is tabulated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CapDepth {
+    /// Down to the lowest valid point of the basin (default). The cap is
+    /// then the basin's own surface below its boundary, so an asperity cut
+    /// by the map's edge (its summit on the edge, no closed boundary) still
+    /// gets a depth range.
+    BasinBottom,
+    /// The grid cap's exact range: summit minus the highest boundary point.
+    GridCapRange,
+    /// A fixed depth (m) for every asperity.
+    Fixed(f64),
+}
+
+/// How a texture is turned into asperities.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRoadOptions {
+    /// Smallest prominence (summit − key saddle) of an asperity (m).
+    pub min_prominence: f64,
+    /// Smallest basin area of an asperity (m²).
+    pub min_area: f64,
+    /// Shape constant `c` of the potential law (0.36 for smooth summits).
+    pub constant: f64,
+    /// Number of depths in each cap table.
+    pub nodes: usize,
+    /// Depth range of the tables.
+    pub depth: CapDepth,
+}
+
+impl TextureRoadOptions {
+    /// Options with the given thresholds, `c = 0.36`, 120 table nodes and
+    /// caps down to the basin bottom.
+    pub fn new(min_prominence: f64, min_area: f64) -> Self {
+        Self {
+            min_prominence,
+            min_area,
+            constant: C_SPHERE,
+            nodes: CapOptions::default().nodes,
+            depth: CapDepth::BasinBottom,
+        }
+    }
+}
+
+/// A texture ready for the multipoint model.
+#[derive(Debug)]
+pub struct TextureRoad {
+    /// Summit positions `(x, y)` (m) in the map's frame (cell `(i, j)` at
+    /// `(i·dx, j·dy)`), one per kept asperity.
+    pub positions: Vec<[f64; 2]>,
+    /// Summit heights (m).
+    pub heights: Vec<f64>,
+    /// Contact laws.
+    pub laws: Vec<TextureLaw>,
+    /// The segmentation of the height map.
+    pub segmentation: Segmentation,
+    /// For each kept asperity, its index in `segmentation.asperities()`.
+    pub asperity_index: Vec<usize>,
+}
+
+/// Segments `map` and builds one tabulated cap and law per asperity.
+///
+/// # Errors
+/// [`TextureRoadError::Texture`] if the segmentation fails,
+/// [`TextureRoadError::Law`] if a law cannot be built,
+/// [`TextureRoadError::NoAsperity`] if no asperity has a depth range,
+/// [`TextureRoadError::InvalidInput`] for a non-positive fixed depth or
+/// fewer than 4 nodes.
+pub fn texture_road(
+    map: &HeightMap,
+    material: Material,
+    opts: &TextureRoadOptions,
+) -> Result<TextureRoad, TextureRoadError> {
+    if let CapDepth::Fixed(d) = opts.depth
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(TextureRoadError::InvalidInput(format!(
+            "fixed cap depth must be finite and > 0, got {d} m"
+        )));
+    }
+    if opts.nodes < 4 {
+        return Err(TextureRoadError::InvalidInput(format!(
+            "cap tables need at least 4 nodes, got {}",
+            opts.nodes
+        )));
+    }
+    let seg = segment(
+        map,
+        &SegmentOptions {
+            min_prominence: opts.min_prominence,
+            min_area: opts.min_area,
+        },
+    )?;
+    let n = seg.asperities().len();
+    let mut road = TextureRoad {
+        positions: Vec::with_capacity(n),
+        heights: Vec::with_capacity(n),
+        laws: Vec::with_capacity(n),
+        segmentation: seg,
+        asperity_index: Vec::with_capacity(n),
+    };
+    let seg = &road.segmentation;
+    for (k, a) in seg.asperities().iter().enumerate() {
+        let max_depth = match opts.depth {
+            CapDepth::BasinBottom => basin_depth(map, a),
+            CapDepth::GridCapRange => None,
+            CapDepth::Fixed(d) => Some(d),
+        };
+        let cap = CapOptions {
+            nodes: opts.nodes,
+            max_depth,
+        };
+        // An asperity without a depth range is dropped (module invariants).
+        let Ok(table) = asperity_cap(map, seg, k, &cap) else {
+            continue;
+        };
+        let law = PotentialLaw::new(
+            Arc::new(table),
+            material,
+            opts.constant,
+            LocalRule::HalfSection,
+        )
+        .map_err(|source| TextureRoadError::Law { index: k, source })?;
+        road.positions.push(a.summit);
+        road.heights.push(a.summit_height);
+        road.laws.push(law);
+        road.asperity_index.push(k);
+    }
+    if road.laws.is_empty() {
+        return Err(TextureRoadError::NoAsperity { segmented: n });
+    }
+    Ok(road)
+}
+
+/// Summit height minus the lowest valid point of the basin, if positive.
+fn basin_depth(map: &HeightMap, a: &Asperity) -> Option<f64> {
+    let low = a
+        .cells
+        .iter()
+        .filter(|&&c| map.valid()[c])
+        .map(|&c| map.heights()[c])
+        .fold(f64::INFINITY, f64::min);
+    let d = a.summit_height - low;
+    (d.is_finite() && d > 0.0).then_some(d)
+}
+
+impl TextureRoad {
+    /// Number of kept asperities.
+    pub fn len(&self) -> usize {
+        self.laws.len()
+    }
+
+    /// Never true: [`texture_road`] refuses a texture without asperities.
+    pub fn is_empty(&self) -> bool {
+        self.laws.is_empty()
+    }
+
+    /// The real shape of every kept asperity for [`crate::two_scale`]: the
+    /// texture's surface, bilinearly interpolated, restricted to the
+    /// asperity's basin, relative to its summit height (clamped to `≤ 0`).
+    /// Outside the basin (and at invalid points) the shape drops to the
+    /// basin's lowest point, so a local solve never touches a neighbour.
+    /// The equivalent radius (which only sizes the local grid) is
+    /// `√(r₁r₂)` of the summit paraboloid when it fits, else `Σ(δ)/(2πδ)` of
+    /// the cap table at a quarter of its depth range.
+    ///
+    /// # Errors
+    /// [`TextureRoadError::InvalidInput`] if `map` is not the map that was
+    /// segmented (different size).
+    pub fn local_shapes(&self, map: &Arc<HeightMap>) -> Result<Vec<LocalShape>, TextureRoadError> {
+        if self.segmentation.size() != (map.nx(), map.ny()) {
+            return Err(TextureRoadError::InvalidInput(format!(
+                "map is {} × {}, the segmentation {:?}",
+                map.nx(),
+                map.ny(),
+                self.segmentation.size()
+            )));
+        }
+        let labels: Arc<[u32]> = self.segmentation.labels().into();
+        let shapes = self
+            .asperity_index
+            .iter()
+            .zip(&self.laws)
+            .map(|(&k, law)| {
+                let a = &self.segmentation.asperities()[k];
+                let floor = -basin_depth(map, a).unwrap_or(0.0);
+                let basin = BasinSurface {
+                    map: Arc::clone(map),
+                    labels: Arc::clone(&labels),
+                    label: k as u32,
+                    summit: a.summit,
+                    top: a.summit_height,
+                    floor,
+                };
+                let equivalent_radius = match a.fit {
+                    Some(f) => (f.radii.0 * f.radii.1).sqrt(),
+                    None => {
+                        let d = 0.25 * law.geometry().max_depth();
+                        law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d)
+                    }
+                };
+                LocalShape::Custom {
+                    height: Arc::new(move |dx, dy| basin.height(dx, dy)),
+                    equivalent_radius,
+                }
+            })
+            .collect();
+        Ok(shapes)
+    }
+}
+
+/// One basin of a texture seen from its summit.
+struct BasinSurface {
+    map: Arc<HeightMap>,
+    labels: Arc<[u32]>,
+    label: u32,
+    summit: [f64; 2],
+    top: f64,
+    floor: f64,
+}
+
+impl BasinSurface {
+    /// Height (m, in `[floor, 0]`) relative to the summit at offset `(dx, dy)`.
+    fn height(&self, dx: f64, dy: f64) -> f64 {
+        let (nx, ny) = (self.map.nx(), self.map.ny());
+        let u = (self.summit[0] + dx) / self.map.dx();
+        let v = (self.summit[1] + dy) / self.map.dy();
+        if !(u > -0.5 && v > -0.5 && u < nx as f64 - 0.5 && v < ny as f64 - 0.5) {
+            return self.floor;
+        }
+        // Corner values: the surface inside the basin, the floor outside.
+        let z = |i: usize, j: usize| {
+            let c = self.map.index(i, j);
+            if self.labels[c] == self.label && self.labels[c] != UNLABELLED && self.map.valid()[c] {
+                (self.map.heights()[c] - self.top).min(0.0)
+            } else {
+                self.floor
+            }
+        };
+        let (i0, j0) = (
+            (u.floor().max(0.0) as usize).min(nx - 1),
+            (v.floor().max(0.0) as usize).min(ny - 1),
+        );
+        let (i1, j1) = ((i0 + 1).min(nx - 1), (j0 + 1).min(ny - 1));
+        let (s, t) = (
+            (u - i0 as f64).clamp(0.0, 1.0),
+            (v - j0 as f64).clamp(0.0, 1.0),
+        );
+        let h = (1.0 - s) * (1.0 - t) * z(i0, j0)
+            + s * (1.0 - t) * z(i1, j0)
+            + (1.0 - s) * t * z(i0, j1)
+            + s * t * z(i1, j1);
+        h.clamp(self.floor, 0.0)
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::multipoint::{Control, Problem, SolverOptions, solve};
+
+    /// Four balls R = 5 mm at known places on a plane, summits 2.0, 1.9,
+    /// 1.8, 1.7 mm above it, 0.1 mm grid.
+    fn balls() -> (HeightMap, Vec<[f64; 3]>) {
+        let r = 5e-3;
+        let centres = vec![
+            [6.03e-3, 6.01e-3, 2.0e-3],
+            [18.02e-3, 6.04e-3, 1.9e-3],
+            [6.01e-3, 18.03e-3, 1.8e-3],
+            [18.04e-3, 18.02e-3, 1.7e-3],
+        ];
+        let c = centres.clone();
+        let map = HeightMap::from_fn(240, 240, 1e-4, 1e-4, move |x, y| {
+            c.iter()
+                .map(|&[cx, cy, top]| {
+                    let d2 = (x - cx).powi(2) + (y - cy).powi(2);
+                    if d2 < r * r {
+                        (r * r - d2).sqrt() - (r - top)
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(0.0, f64::max)
+        })
+        .unwrap();
+        (map, centres)
+    }
+
+    #[test]
+    fn balls_on_a_plane_give_four_asperities_and_a_balanced_solve() {
+        let (map, centres) = balls();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let road = texture_road(&map, material, &TextureRoadOptions::new(0.2e-3, 1e-6)).unwrap();
+        assert_eq!(road.len(), 4);
+        // Highest first, each within one cell of its ball's summit.
+        for (k, [cx, cy, top]) in centres.iter().enumerate() {
+            let p = road.positions[k];
+            assert!((p[0] - cx).abs() < 1e-4, "{k}: {p:?}");
+            assert!((p[1] - cy).abs() < 1e-4, "{k}: {p:?}");
+            assert!((road.heights[k] - top).abs() < 1e-5, "{k}");
+        }
+        let problem =
+            Problem::from_heights(road.positions, &road.heights, road.laws, material).unwrap();
+        let load = 50.0;
+        let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
+        assert!((s.total_force() - load).abs() < 1e-6 * load);
+        assert!(s.forces.iter().all(|&f| f >= 0.0));
+        assert!(s.forces[0] >= s.forces[3], "{:?}", s.forces);
+    }
+
+    #[test]
+    fn local_shape_of_a_ball_follows_the_sphere_inside_its_basin_and_drops_outside() {
+        let (map, centres) = balls();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let road = texture_road(&map, material, &TextureRoadOptions::new(0.2e-3, 1e-6)).unwrap();
+        let map = Arc::new(map);
+        let shapes = road.local_shapes(&map).unwrap();
+        let r: f64 = 5e-3;
+        for (k, shape) in shapes.iter().enumerate() {
+            // Summit paraboloid fits a sphere of radius R.
+            let re = shape.equivalent_radius();
+            assert!((re - r).abs() < 0.02 * r, "{k}: R = {re}");
+            let [cx, cy, top] = centres[k];
+            let [sx, sy] = road.positions[k];
+            // On the ball, 1–3 mm from its centre: the sphere to the
+            // interpolation error of a 0.1 mm grid (≈ h²/8R ≈ 0.3 µm) and
+            // the summit offset (< 1 cell).
+            for (ox, oy) in [(1e-3, 0.0), (0.0, -2e-3), (2.1e-3, 2.1e-3)] {
+                let (x, y) = (cx + ox, cy + oy);
+                let exact = (r * r - ox * ox - oy * oy).sqrt() - r;
+                let h = shape.height(x - sx, y - sy);
+                assert!(
+                    (h - (exact + top - road.heights[k])).abs() < 2e-6,
+                    "{k}: h = {h}, sphere {exact}"
+                );
+            }
+            // 9 mm away the point lies in another basin or on the plane
+            // outside this ball's basin: the floor, the basin bottom.
+            let h = shape.height(9e-3, 9e-3);
+            assert!((h + top).abs() < 1e-9 || h <= -top + 1e-9, "{k}: {h}");
+            assert!(shape.height(0.0, 0.0) <= 0.0);
+        }
+        // A map of another size is refused.
+        let other = Arc::new(HeightMap::from_fn(10, 10, 1e-4, 1e-4, |_, _| 0.0).unwrap());
+        assert!(road.local_shapes(&other).is_err());
+    }
+
+    #[test]
+    fn invalid_options_are_refused() {
+        let (map, _) = balls();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let mut o = TextureRoadOptions::new(0.2e-3, 1e-6);
+        o.depth = CapDepth::Fixed(f64::NAN);
+        assert!(matches!(
+            texture_road(&map, material, &o),
+            Err(TextureRoadError::InvalidInput(_))
+        ));
+        let flat = HeightMap::from_fn(50, 50, 1e-4, 1e-4, |_, _| 0.0).unwrap();
+        assert!(texture_road(&flat, material, &TextureRoadOptions::new(0.2e-3, 1e-6)).is_err());
+    }
+}
