@@ -19,7 +19,9 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use crate::run::{Carry, CheckpointOptions, RollingConfig, RollingControl, StepRecord};
 use crate::{Road, RollingError, Tread};
 
-const MAGIC: &str = "tyreroad-rolling-checkpoint 1";
+// Version 2: sensors integrate each contact's pressure instead of counting
+// summits, so version-1 records are not reused.
+const MAGIC: &str = "tyreroad-rolling-checkpoint 2";
 
 /// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
 /// `DefaultHasher`).

@@ -44,10 +44,11 @@
 //!
 //! Per step ([`StepRecord`]): total force `Σ P_i`, approach `δ0`, contact
 //! area `Σ π a_i²` (local contacts rebuilt by each law, Hertz for spheres),
-//! number of contacts, and the force on each virtual [`Sensor`] — the sum of
-//! the forces of the asperities whose summits lie inside its rectangle (a
-//! summit's whole force is counted, its local pressure is not spread over the
-//! sensor's edges).
+//! number of contacts, and the force on each virtual [`Sensor`]: each local
+//! contact's pressure (Hertz or cone profile over its radius, centred on the
+//! summit) integrated over the sensor's rectangle ([`Sensor::share`]), so a
+//! contact straddling an edge is split between neighbouring sensors and
+//! sensors tiling the road sum to the total force.
 //!
 //! # Spectra
 //!
@@ -112,7 +113,7 @@ pub use checkpoint::input_hash;
 pub use road::Road;
 pub use run::{
     CheckpointOptions, Progress, ProgressFn, RollingConfig, RollingControl, RollingResult,
-    RunOptions, Sensor, StepProblem, StepRecord, roll, step_problem,
+    RunOptions, SHARE_RINGS, SHARE_SPOKES, Sensor, StepProblem, StepRecord, roll, step_problem,
 };
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
