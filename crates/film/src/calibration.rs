@@ -8,9 +8,10 @@ use std::path::Path;
 use crate::error::{FilmError, Result};
 
 /// The manufacturer's LLW standard chart, shipped as
-/// `fixtures/film/fuji-llw-density-curves.csv` (pressure in MPa, density of
+/// `crates/film/data/fuji-llw-density-curves.csv` (inside the crate, so it
+/// packages with it; pressure in MPa, density of
 /// curves A–D).
-pub const LLW_CHART_CSV: &str = include_str!("../../../fixtures/film/fuji-llw-density-curves.csv");
+pub const LLW_CHART_CSV: &str = include_str!("../data/fuji-llw-density-curves.csv");
 
 /// A monotone piecewise-cubic Hermite interpolant (Fritsch–Carlson / PCHIP,
 /// as in SciPy's `PchipInterpolator`) through points `(x_k, y_k)` with `x`

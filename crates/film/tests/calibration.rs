@@ -11,10 +11,10 @@ fn llw_chart_loads_four_curves_over_the_film_range() -> Result<()> {
     for d in &chart.density {
         assert_eq!(d.len(), 86);
     }
-    // The shipped fixture is the file the crate embeds.
+    // The shipped data file is the one the crate embeds.
     let on_disk = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../fixtures/film/fuji-llw-density-curves.csv"),
+            .join("data/fuji-llw-density-curves.csv"),
     )
     .map_err(|reason| FilmError::Io {
         path: "fixture".into(),
