@@ -58,6 +58,15 @@ pub trait CapGeometry {
     fn max_depth(&self) -> f64 {
         f64::INFINITY
     }
+
+    /// Depths at which the measures are pieced together (table nodes, the
+    /// end of a run-out), increasing; empty for shapes given by one formula.
+    /// Between two of them the measures are smooth, at them the second
+    /// derivatives may jump. A law built on the shape scans these pieces,
+    /// e.g. for intervals where its force would decrease.
+    fn breakpoints(&self) -> Vec<f64> {
+        Vec::new()
+    }
 }
 
 impl<G: CapGeometry + ?Sized> CapGeometry for &G {
@@ -67,6 +76,9 @@ impl<G: CapGeometry + ?Sized> CapGeometry for &G {
     fn max_depth(&self) -> f64 {
         (**self).max_depth()
     }
+    fn breakpoints(&self) -> Vec<f64> {
+        (**self).breakpoints()
+    }
 }
 
 impl<G: CapGeometry + ?Sized> CapGeometry for std::sync::Arc<G> {
@@ -75,5 +87,8 @@ impl<G: CapGeometry + ?Sized> CapGeometry for std::sync::Arc<G> {
     }
     fn max_depth(&self) -> f64 {
         (**self).max_depth()
+    }
+    fn breakpoints(&self) -> Vec<f64> {
+        (**self).breakpoints()
     }
 }

@@ -74,7 +74,8 @@
 //! A [`TabulatedCap`] interpolates samples `(δₖ, Ωₖ, Σₖ, Γₖ)`: `Σ` and `Γ` by
 //! monotone cubic Hermite (Fritsch–Carlson), `Ω` as the integral of the `Σ`
 //! interpolant (so `dΩ/dδ = Σ` exactly), a power law `Σ₀ (δ/δ₀)^p` from 0 to
-//! the first node, and vertical walls beyond the last one.
+//! the first node, and a short C¹ run-out into vertical walls beyond the last
+//! one: `Σ` and `Γ` are C¹ everywhere, so a law built on them is continuous.
 //!
 //! ```
 //! use tyreroad_asperity::{CapGeometry, Cone, TabulatedCap};

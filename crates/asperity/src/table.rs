@@ -46,15 +46,28 @@ pub struct CapTable {
 /// `p = Σ₀δ₀/Ω₀ − 1` (so `Ω(δ₀) = Ω₀` exactly; `p = 1` for a paraboloid,
 /// → 1 for a sphere, `p = 2` for a cone or a mesh whose summit is a vertex)
 /// and `q = ln(Γ₁/Γ₀)/ln(δ₁/δ₀)` (clamped to `q ≥ 0`). The Hermite slopes at
-/// `δ₀` are those of the power laws, so `Σ` and `Γ` are C¹ at `δ₀` unless
-/// the Fritsch–Carlson limiter has to reduce them there. `p = 0` is a flat
+/// `δ₀` are those of the power laws, so `Σ` and `Γ` are C¹ at `δ₀`. When
+/// the Fritsch–Carlson limiter has to reduce a slope there (data far from a
+/// power law), the exponent is lowered to the limited slope instead, keeping
+/// C¹; `Ω(δ₀)` then departs from `Ω₀`. `p = 0` is a flat
 /// punch (`Σ` jumps to `Σ₀` at contact): still `Ω(0) = 0`, a law
 /// `P ∝ Ω²Γ^½/Σ^(7/4)` then starts as `δ`.
 ///
 /// # Beyond the last node (`δ > δₙ₋₁ = max_depth`)
 ///
-/// Vertical walls: `Σ`, `Γ` constant, `Ω` growing linearly with slope `Σ`,
-/// derivatives 0. [`CapGeometry::max_depth`] returns `δₙ₋₁`.
+/// A short C¹ run-out, then vertical walls. The potential law's force
+/// `P = U (2Σ/Ω + Γ'/(2Γ) − 7Σ'/(4Σ))` contains `Σ'` and `Γ'`, so `Σ` and
+/// `Γ` must be C¹ for `P` to be continuous: walls started right at the last
+/// node, where the Hermite slopes are not 0, would make `P` jump there (by
+/// 32 % on a segmented road asperity, enough to stall the multipoint Newton
+/// solver). So each of `Σ` and `Γ` continues, over a length `ℓ`, along the
+/// cubic Hermite piece from its last value `yₙ₋₁` and slope `mₙ₋₁` to the
+/// value `yₙ₋₁ + mₙ₋₁ℓ/2` with slope 0 (monotone: Fritsch–Carlson
+/// `α = 2, β = 0`), and is constant beyond. `ℓ` is the last interval's
+/// width, shortened for a falling `Γ` so that it never drops below
+/// `Γₙ₋₁/2`. `Ω` stays the integral of `Σ`: cubic then linear. A shape whose
+/// slopes vanish at the last node (a sphere tabulated to its equator) gets
+/// exact vertical walls. [`CapGeometry::max_depth`] returns `δₙ₋₁`.
 ///
 /// # Cost
 ///
@@ -86,6 +99,54 @@ pub struct TabulatedCap {
     p: f64,
     /// Onset exponent of `Γ`.
     q: f64,
+    /// Run-out of `Σ` beyond the last node.
+    area_tail: Tail,
+    /// Run-out of `Γ` beyond the last node.
+    perimeter_tail: Tail,
+}
+
+/// The C¹ run-out of an interpolant beyond the last node `x`: the Hermite
+/// cubic from `(x, y, m)` to `(x + len, y + m·len/2, 0)`, then constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Tail {
+    len: f64,
+    y: f64,
+    m: f64,
+}
+
+impl Tail {
+    /// The run-out from value `y` with slope `m` at the last node, over the
+    /// last interval's width `h`; a falling run-out is shortened so that it
+    /// loses at most half of `y` (a perimeter stays positive).
+    fn new(y: f64, m: f64, h: f64) -> Self {
+        let len = if m < 0.0 { h.min(y / -m) } else { h };
+        Self { len, y, m }
+    }
+
+    /// Value, first and second derivatives at distance `t ≥ 0` past the
+    /// last node.
+    fn eval(&self, t: f64) -> [f64; 3] {
+        if self.m == 0.0 || t >= self.len {
+            return [self.y + 0.5 * self.m * self.len, 0.0, 0.0];
+        }
+        let u = t / self.len;
+        let (m0, y1) = (self.m * self.len, self.y + 0.5 * self.m * self.len);
+        let v = hermite(u, self.y, m0, y1, 0.0);
+        [v[0], v[1] / self.len, v[2] / (self.len * self.len)]
+    }
+
+    /// `∫₀ᵗ` of the run-out.
+    fn integral(&self, t: f64) -> f64 {
+        let m0 = self.m * self.len;
+        let y1 = self.y + 0.5 * m0;
+        if self.m == 0.0 {
+            return self.y * t;
+        }
+        if t >= self.len {
+            return hermite_integral(1.0, self.len, self.y, m0, y1, 0.0) + y1 * (t - self.len);
+        }
+        hermite_integral(t / self.len, self.len, self.y, m0, y1, 0.0)
+    }
 }
 
 impl TryFrom<CapTable> for TabulatedCap {
@@ -176,11 +237,21 @@ impl TabulatedCap {
                 s0 * d0
             ));
         }
-        let p = (s0 * d0 / o0 - 1.0).max(0.0);
+        let mut p = (s0 * d0 / o0 - 1.0).max(0.0);
         let (g0, g1, d1) = (table.perimeter[0], table.perimeter[1], table.depth[1]);
-        let q = ((g1 / g0).ln() / (d1 / d0).ln()).max(0.0);
+        let mut q = ((g1 / g0).ln() / (d1 / d0).ln()).max(0.0);
         let d_area = pchip_slopes(&table.depth, &table.base_area, p * s0 / d0);
         let d_perimeter = pchip_slopes(&table.depth, &table.perimeter, q * g0 / d0);
+        // When the limiter lowered the slope at δ₀, lower the exponent to
+        // match: the onset then stays C¹ (a law's force contains Σ' and Γ',
+        // so a slope jump would be a force jump), at the price of Ω(δ₀)
+        // departing from Ω₀ (reported by `volume_mismatch`).
+        if d_area[0] != p * s0 / d0 {
+            p = d_area[0] * d0 / s0;
+        }
+        if d_perimeter[0] != q * g0 / d0 {
+            q = d_perimeter[0] * d0 / g0;
+        }
         let mut omega = Vec::with_capacity(n);
         omega.push(s0 * d0 / (p + 1.0));
         for k in 0..n - 1 {
@@ -193,6 +264,9 @@ impl TabulatedCap {
         if !omega.iter().all(|v| v.is_finite()) {
             return bad("the integrated volume is not finite".into());
         }
+        let h_last = table.depth[n - 1] - table.depth[n - 2];
+        let area_tail = Tail::new(table.base_area[n - 1], d_area[n - 1], h_last);
+        let perimeter_tail = Tail::new(table.perimeter[n - 1], d_perimeter[n - 1], h_last);
         Ok(Self {
             table,
             omega,
@@ -200,6 +274,8 @@ impl TabulatedCap {
             d_perimeter,
             p,
             q,
+            area_tail,
+            perimeter_tail,
         })
     }
 
@@ -329,12 +405,16 @@ impl CapGeometry for TabulatedCap {
         }
         let last = n - 1;
         if depth > x[last] {
-            let (s, g) = (t.base_area[last], t.perimeter[last]);
+            let past = depth - x[last];
+            let (sig, gam) = (self.area_tail.eval(past), self.perimeter_tail.eval(past));
             return CapMeasures {
-                volume: self.omega[last] + s * (depth - x[last]),
-                base_area: s,
-                perimeter: g,
-                ..CapMeasures::EMPTY
+                volume: self.omega[last] + self.area_tail.integral(past),
+                base_area: sig[0],
+                perimeter: gam[0],
+                d_base_area: sig[1],
+                d_perimeter: gam[1],
+                d2_base_area: sig[2],
+                d2_perimeter: gam[2],
             };
         }
         // x[k] ≤ depth < x[k+1], or k = last − 1 at depth = x[last].
@@ -347,12 +427,7 @@ impl CapGeometry for TabulatedCap {
         let (g0, g1) = (t.perimeter[k], t.perimeter[k + 1]);
         let (n0, n1) = (self.d_perimeter[k] * h, self.d_perimeter[k + 1] * h);
         let gam = hermite(u, g0, n0, g1, n1);
-        let (u2, u3, u4) = (u * u, u * u * u, u * u * u * u);
-        let vol = self.omega[k]
-            + h * (y0 * (u4 / 2.0 - u3 + u)
-                + m0 * (u4 / 4.0 - 2.0 * u3 / 3.0 + u2 / 2.0)
-                + y1 * (u3 - u4 / 2.0)
-                + m1 * (u4 / 4.0 - u3 / 3.0));
+        let vol = self.omega[k] + hermite_integral(u, h, y0, m0, y1, m1);
         CapMeasures {
             volume: vol,
             base_area: sig[0],
@@ -366,6 +441,20 @@ impl CapGeometry for TabulatedCap {
 
     fn max_depth(&self) -> f64 {
         self.table.depth[self.table.depth.len() - 1]
+    }
+
+    /// The nodes, then the ends of the run-outs of `Σ` and `Γ`.
+    fn breakpoints(&self) -> Vec<f64> {
+        let mut b = self.table.depth.clone();
+        let last = self.max_depth();
+        let mut ends = [last + self.area_tail.len, last + self.perimeter_tail.len];
+        ends.sort_by(f64::total_cmp);
+        for e in ends {
+            if e > b[b.len() - 1] {
+                b.push(e);
+            }
+        }
+        b
     }
 }
 
@@ -386,6 +475,17 @@ fn hermite(u: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> [f64; 3] {
     let dd =
         y0 * (12.0 * u - 6.0) + m0 * (6.0 * u - 4.0) + y1 * (6.0 - 12.0 * u) + m1 * (6.0 * u - 2.0);
     [v, d, dd]
+}
+
+/// `∫` of the cubic Hermite piece of width `h` (end slopes `m0`, `m1` per
+/// unit `u`) from its start to `u ∈ [0, 1]`.
+#[inline]
+fn hermite_integral(u: f64, h: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> f64 {
+    let (u2, u3, u4) = (u * u, u * u * u, u * u * u * u);
+    h * (y0 * (u4 / 2.0 - u3 + u)
+        + m0 * (u4 / 4.0 - 2.0 * u3 / 3.0 + u2 / 2.0)
+        + y1 * (u3 - u4 / 2.0)
+        + m1 * (u4 / 4.0 - u3 / 3.0))
 }
 
 /// Fritsch–Carlson monotone slopes at the nodes, with slope `first` imposed

@@ -69,31 +69,113 @@ fn tables_of_closed_forms_reproduce_them() {
 }
 
 #[test]
-fn beyond_the_table_walls_are_vertical() {
+fn beyond_the_table_a_c1_run_out_leads_into_vertical_walls() {
     let s = Sphere::new(1.0).unwrap();
     let t = TabulatedCap::from_geometry(&s, 0.5, 100).unwrap();
-    let end = t.cap(0.5);
-    let c = t.cap(0.7);
-    assert_eq!((c.base_area, c.perimeter), (end.base_area, end.perimeter));
-    assert!(rel(c.volume, end.volume + 0.2 * end.base_area) < 1e-14);
+    let grid = TabulatedCap::default_grid(0.5, 100).unwrap();
+    let h = grid[99] - grid[98];
+    let end = t.cap(0.5); // the last piece's values at the last node
+    let (y0, m0) = (end.base_area, end.d_base_area);
+    assert!(m0 > 0.0);
+    // The run-out is the Hermite cubic from (Σ, Σ') to (Σ + Σ'h/2, 0) over
+    // the last interval's width h: at its middle (y0 + y1)/2 + h(m0 − m1)/8.
+    let mid = t.cap(0.5 + 0.5 * h);
+    assert!(rel(mid.base_area, y0 + 3.0 * m0 * h / 8.0) < 1e-13);
+    // Then vertical walls: constant Σ, Γ, linear Ω, no derivatives.
+    let (w, c) = (t.cap(0.5 + h), t.cap(0.7));
+    assert!(rel(w.base_area, y0 + 0.5 * m0 * h) < 1e-14);
+    assert_eq!((c.base_area, c.perimeter), (w.base_area, w.perimeter));
+    assert!(rel(c.volume, w.volume + (0.7 - 0.5 - h) * w.base_area) < 1e-13);
     assert_eq!(
-        (c.d_base_area, c.d_perimeter, c.d2_base_area),
-        (0.0, 0.0, 0.0)
+        (c.d_base_area, c.d_perimeter, c.d2_base_area, c.d2_perimeter),
+        (0.0, 0.0, 0.0, 0.0)
     );
+    // dΩ/dδ = Σ inside the run-out (central differences).
+    for f in [0.1, 0.5, 0.9] {
+        let d = 0.5 + f * h;
+        let e = 1e-6 * h;
+        let fd = (t.cap(d + e).volume - t.cap(d - e).volume) / (2.0 * e);
+        assert!(rel(fd, t.cap(d).base_area) < 1e-9, "{f}");
+        let fd = (t.cap(d + e).base_area - t.cap(d - e).base_area) / (2.0 * e);
+        assert!(rel(fd, t.cap(d).d_base_area) < 1e-6, "{f}");
+    }
     for d in [0.0, -1.0, f64::NAN] {
         assert_eq!(t.cap(d), CapMeasures::EMPTY);
     }
-    // Continuous at every node, and at the onset.
-    let grid = TabulatedCap::default_grid(0.5, 100).unwrap();
-    for &x in &grid {
-        let (a, b) = (t.cap(x * (1.0 - 1e-13)), t.cap(x * (1.0 + 1e-13)));
-        assert!(rel(a.volume, b.volume) < 1e-11);
-        assert!(rel(a.base_area, b.base_area) < 1e-11);
-        assert!(rel(a.perimeter, b.perimeter) < 1e-11);
-        if x < 0.5 {
-            assert!(rel(a.d_base_area, b.d_base_area) < 1e-9, "C¹ at {x}");
-        }
+    // A sphere tabulated to its equator has Σ' = Γ' = 0 there (Σ is
+    // quadratic, which the three-point end slope reproduces): exact walls,
+    // the cylinder of `Sphere` itself.
+    let t = TabulatedCap::from_geometry(&s, 1.0, 200).unwrap();
+    for d in [1.0, 1.3] {
+        let (a, b) = (t.cap(d), s.cap(d));
+        assert!(rel(a.base_area, b.base_area) < 1e-12, "{d}");
+        assert!(rel(a.perimeter, b.perimeter) < 1e-4, "{d}");
     }
+    // The nodes, then the end of the run-outs (here both one interval long).
+    let b = t.breakpoints();
+    assert_eq!(&b[..200], &t.table().depth[..]);
+    assert_eq!(b.len(), 201);
+    assert!(rel(b[200] - 1.0, 1.0 - b[198]) < 1e-12);
+}
+
+/// `Σ`, `Γ` and their slopes one ulp on each side of `x`, relative to the
+/// columns' maxima (slopes times `max_depth`): the law's force needs all
+/// four continuous. The slopes' change over those two ulps, `Σ''·2ulp`, is
+/// removed (a spike in the data can make `Γ''` 1e5 times its scale).
+fn jump_at(t: &TabulatedCap, x: f64) -> [f64; 4] {
+    let (lo, hi) = (x.next_down(), x.next_up());
+    let (a, b) = (t.cap(lo), t.cap(hi));
+    let s = t.table().base_area.iter().fold(0.0f64, |m, v| m.max(*v));
+    let g = t.table().perimeter.iter().fold(0.0f64, |m, v| m.max(*v));
+    let x_scale = t.max_depth();
+    let curv = |u: f64, v: f64| (u.abs() + v.abs()) * (hi - lo);
+    [
+        (a.base_area - b.base_area).abs() / s,
+        (a.perimeter - b.perimeter).abs() / g,
+        ((a.d_base_area - b.d_base_area).abs() - curv(a.d2_base_area, b.d2_base_area)).max(0.0)
+            * x_scale
+            / s,
+        ((a.d_perimeter - b.d_perimeter).abs() - curv(a.d2_perimeter, b.d2_perimeter)).max(0.0)
+            * x_scale
+            / g,
+    ]
+}
+
+#[test]
+fn tabulated_cap_is_c1_at_every_node_and_past_the_last() {
+    let t = TabulatedCap::from_geometry(&Sphere::new(1.0).unwrap(), 0.5, 100).unwrap();
+    for x in t.breakpoints() {
+        let j = jump_at(&t, x);
+        assert!(j.iter().all(|&v| v < 1e-9), "at {x}: {j:?}");
+    }
+}
+
+#[test]
+fn onset_stays_c1_when_the_limiter_lowers_the_first_slope() {
+    // Ω₀ = Σ₀δ₀/4 asks for p = 3, a slope 3Σ₀/δ₀ four times the secant to
+    // the next node: the Fritsch–Carlson limiter must cut it, and the onset
+    // exponent follows.
+    let t = TabulatedCap::new(CapTable {
+        depth: vec![1.0, 2.0, 3.0],
+        volume: vec![0.25, 1.5, 3.0],
+        base_area: vec![1.0, 1.75, 2.0],
+        perimeter: vec![1.0, 1.2, 1.3],
+    })
+    .unwrap();
+    let (p, _) = t.onset_exponents();
+    assert!(p < 3.0 && p > 0.0, "{p}");
+    let j = jump_at(&t, 1.0);
+    assert!(j.iter().all(|&v| v < 1e-12), "{j:?}");
+    // Still Ω = Σδ/(p + 1) below δ₀ and dΩ/dδ = Σ.
+    let c = t.cap(0.5);
+    assert!(rel(c.volume, c.base_area * 0.5 / (p + 1.0)) < 1e-14);
+    let e = 1e-7;
+    assert!(
+        rel(
+            (t.cap(1.0 + e).volume - t.cap(1.0 - e).volume) / (2.0 * e),
+            t.cap(1.0).base_area
+        ) < 1e-6
+    );
 }
 
 #[test]
@@ -206,8 +288,20 @@ proptest! {
         // Never outside the data's range (no overshoot).
         let t = tab.table();
         let (gmin, gmax) = t.perimeter.iter().fold((f64::INFINITY, 0.0f64), |(x, y), &g| (x.min(g), y.max(g)));
-        if hi >= t.depth[0] {
+        if hi >= t.depth[0] && hi <= m {
             prop_assert!(ch.perimeter >= gmin * (1.0 - 1e-12) && ch.perimeter <= gmax * (1.0 + 1e-12));
+        }
+        // Past the table the run-out keeps Γ above half its last value.
+        let last = t.perimeter[t.perimeter.len() - 1];
+        prop_assert!(tab.cap(1.5 * m).perimeter >= 0.5 * last * (1.0 - 1e-12));
+    }
+
+    #[test]
+    fn random_tables_are_c1_everywhere(t in random_table()) {
+        let tab = TabulatedCap::new(t).unwrap();
+        for x in tab.breakpoints() {
+            let j = jump_at(&tab, x);
+            prop_assert!(j.iter().all(|&v| v < 1e-9), "at {}: {:?}", x, j);
         }
     }
 

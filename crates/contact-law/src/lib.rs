@@ -23,8 +23,10 @@
 //! # Invariants
 //!
 //! - [`Material`] holds `E > 0` and `−1 < ν ≤ 0.5`, both finite;
-//! - every [`ContactLaw`] gives `P = k = 0` for `δ ≤ 0` (and NaN), `P` continuous,
-//!   and `k = dP/dδ` (tested against finite differences);
+//! - every [`ContactLaw`] gives `P = k = 0` for `δ ≤ 0` (and NaN), `P` continuous
+//!   and non-decreasing, and `k = dP/dδ` (tested against finite differences);
+//!   a [`PotentialLaw`] on a tabulated cap keeps it, with `k ≥ 0.1 P/δ`, by
+//!   ramps where the raw potential law would flatten or dip;
 //! - a law knows nothing of other asperities or of any solver: the coupling
 //!   lives in `tyreroad-multipoint`.
 //!
@@ -51,7 +53,10 @@ mod reference;
 
 pub use law::{ContactLaw, LawPoint, LocalContact, PressureProfile};
 pub use material::Material;
-pub use potential::{C_CONE, C_HERTZ_EXACT, C_SNEDDON_EXACT, C_SPHERE, LocalRule, PotentialLaw};
+pub use potential::{
+    C_CONE, C_HERTZ_EXACT, C_SNEDDON_EXACT, C_SPHERE, LocalRule, MIN_STIFFNESS_RATIO, PotentialLaw,
+    Ramp,
+};
 pub use reference::{HertzLaw, SneddonLaw};
 
 /// What can go wrong when building a contact law.
