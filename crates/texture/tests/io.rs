@@ -4,7 +4,9 @@
 use std::io::{Cursor, Read, Write};
 
 use proptest::prelude::*;
-use tyreroad_texture::io::sur::{sur_from_bytes, sur_to_bytes};
+use tyreroad_texture::io::sur::{
+    read_sur, sur_from_bytes, sur_to_bytes, sur_to_bytes_compressed, write_sur_compressed,
+};
 use tyreroad_texture::io::text::{
     ascii_grid_from_str, ascii_grid_to_string, xyz_from_str, xyz_to_string,
 };
@@ -141,6 +143,14 @@ fn truncated_files_give_errors() {
     for cut in [0, 100, 511, 512, sur.len() - 1] {
         assert!(sur_from_bytes(&sur[..cut]).is_err(), "SUR cut at {cut}");
     }
+    let sur = sur_to_bytes_compressed(&map, 3).unwrap();
+    // In the header, the stream count, a directory entry, a stream.
+    for cut in [511, 512, 515, 520, 530, sur.len() - 30, sur.len() - 1] {
+        assert!(
+            sur_from_bytes(&sur[..cut]).is_err(),
+            "compressed SUR cut at {cut}"
+        );
+    }
     let txt = ascii_grid_to_string(&map);
     // (A cut inside the last number of a text file cannot be seen.)
     for cut in [txt.len() / 2, txt.len() - 60] {
@@ -158,6 +168,136 @@ fn sur_round_trip() {
     assert!((back.dx() / map.dx() - 1.0).abs() < 1e-7);
     let d = max_diff(&map, &back);
     assert!(d < 1e-9, "max error {d:e}"); // f32 offset and step, i32 points
+}
+
+/// Heights (bit for bit, NaN for missing points), mask and spacings equal.
+fn assert_same(a: &HeightMap, b: &HeightMap) {
+    assert_eq!(
+        (a.nx(), a.ny(), a.dx(), a.dy()),
+        (b.nx(), b.ny(), b.dx(), b.dy())
+    );
+    assert_eq!(a.valid(), b.valid());
+    let bits = |m: &HeightMap| m.heights().iter().map(|h| h.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(a), bits(b));
+}
+
+#[test]
+fn compressed_sur_reads_as_the_uncompressed_file() {
+    let map = sample(); // 91 points: no stream count below divides it evenly
+    let classic = sur_from_bytes(&sur_to_bytes(&map).unwrap()).unwrap();
+    for streams in [1, 2, 3, 7, 8, 90, 91] {
+        let bytes = sur_to_bytes_compressed(&map, streams).unwrap();
+        assert_eq!(&bytes[..12], b"DSCOMPRESSED");
+        // Offset 324: the size of the data block behind the header.
+        let block = u32::from_le_bytes(bytes[324..328].try_into().unwrap()) as usize;
+        assert_eq!(block, bytes.len() - 512, "{streams} streams");
+        // Stream count: runs of ⌈91/s⌉ points (90 streams give 46 runs of 2
+        // and none empty).
+        let count = u32::from_le_bytes(bytes[512..516].try_into().unwrap()) as usize;
+        assert_eq!(count, 91usize.div_ceil(91usize.div_ceil(streams)));
+        assert_same(&sur_from_bytes(&bytes).unwrap(), &classic);
+    }
+    // A constant surface compresses well, and still reads back.
+    let flat = HeightMap::from_fn(300, 200, 1e-4, 1e-4, |_, _| 1e-3).unwrap();
+    let bytes = sur_to_bytes_compressed(&flat, 4).unwrap();
+    assert!(bytes.len() < 512 + 300 * 200, "{}", bytes.len());
+    assert_same(
+        &sur_from_bytes(&bytes).unwrap(),
+        &sur_from_bytes(&sur_to_bytes(&flat).unwrap()).unwrap(),
+    );
+    // Through a file, and `read_any` by the extension.
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_compressed.sur");
+    write_sur_compressed(&map, &path, 2).unwrap();
+    assert_same(&read_sur(&path).unwrap(), &classic);
+    assert_same(&tyreroad_texture::read_any(&path).unwrap(), &classic);
+    assert!(sur_to_bytes_compressed(&map, 0).is_err());
+    assert!(sur_to_bytes_compressed(&map, 92).is_err());
+}
+
+/// A compressed file of `sample()`'s header (13 × 7 points of 32 bits)
+/// with the given data block.
+fn compressed_with_block(block: &[u8]) -> Vec<u8> {
+    let mut b = sur_to_bytes_compressed(&sample(), 1).unwrap()[..512].to_vec();
+    b.extend_from_slice(block);
+    b
+}
+
+fn zlib(data: &[u8]) -> Vec<u8> {
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(data).unwrap();
+    z.finish().unwrap()
+}
+
+fn block(streams: &[(u32, &[u8])]) -> Vec<u8> {
+    let mut b = (streams.len() as u32).to_le_bytes().to_vec();
+    for (raw, zip) in streams {
+        b.extend_from_slice(&raw.to_le_bytes());
+        b.extend_from_slice(&(zip.len() as u32).to_le_bytes());
+    }
+    for (_, zip) in streams {
+        b.extend_from_slice(zip);
+    }
+    b
+}
+
+fn sur_error(bytes: &[u8]) -> String {
+    match sur_from_bytes(bytes) {
+        Err(e @ TextureError::Format { .. }) => e.to_string(),
+        other => panic!("expected a format error, got {other:?}"),
+    }
+}
+
+#[test]
+fn compressed_sur_sizes_are_checked_before_inflating() {
+    let need = 13 * 7 * 4;
+    let points = vec![7u8; need];
+    // The well-formed block reads.
+    assert!(
+        sur_from_bytes(&compressed_with_block(&block(&[(
+            need as u32,
+            &zlib(&points)
+        )])))
+        .is_ok()
+    );
+    // A bomb: 1 MB of zeros announced as the 364 bytes the header asks for.
+    // Inflation stops one byte past the announced size.
+    let bomb = zlib(&vec![0u8; 1 << 20]);
+    let e = sur_error(&compressed_with_block(&block(&[(need as u32, &bomb)])));
+    assert!(e.contains("more than the 364 bytes"), "{e}");
+    // A stream announcing more than zlib can give: refused unread.
+    let tiny = zlib(&[0u8; 4]);
+    let e = sur_error(&compressed_with_block(&block(&[(u32::MAX, &tiny)])));
+    assert!(e.contains("announces"), "{e}");
+    // Sizes that do not add up to the header's points.
+    let half = zlib(&points[..need / 2]);
+    let e = sur_error(&compressed_with_block(&block(&[(need as u32 / 2, &half)])));
+    assert!(e.contains("take 364"), "{e}");
+    // A stream shorter than announced, a corrupt stream.
+    let e = sur_error(&compressed_with_block(&block(&[
+        (need as u32 / 2, &half),
+        (need as u32 / 2, &zlib(&points[..10])),
+    ])));
+    assert!(e.contains("inflates to 10 bytes"), "{e}");
+    let mut bad = zlib(&points);
+    bad[5] ^= 0xFF;
+    bad[6] ^= 0xFF;
+    assert!(sur_from_bytes(&compressed_with_block(&block(&[(need as u32, &bad)]))).is_err());
+    // Directories: no stream, a count past the file, a stream past the file.
+    assert!(
+        sur_error(&compressed_with_block(&0u32.to_le_bytes())).contains("0 compressed streams")
+    );
+    assert!(
+        sur_error(&compressed_with_block(&u32::MAX.to_le_bytes())).contains("compressed streams")
+    );
+    let mut past = block(&[(need as u32, &zlib(&points))]);
+    past.truncate(past.len() - 1);
+    assert!(sur_error(&compressed_with_block(&past)).contains("ends past the file"));
+    // A header announcing 2³⁰ points behind 30 compressed bytes: refused by
+    // the ratio check, nothing allocated for them.
+    let mut huge = compressed_with_block(&block(&[(u32::MAX, &tiny)]));
+    huge[108..112].copy_from_slice(&32768i32.to_le_bytes());
+    huge[112..116].copy_from_slice(&32768i32.to_le_bytes());
+    assert!(sur_from_bytes(&huge).is_err());
 }
 
 #[test]
@@ -216,6 +356,7 @@ proptest! {
             x3p_to_bytes(&map, ty).unwrap(),
             replace_entry(&x3p_to_bytes(&map, ty).unwrap(), "none", |_| ()),
             sur_to_bytes(&map).unwrap(),
+            sur_to_bytes_compressed(&map, 1 + t).unwrap(),
             ascii_grid_to_string(&map).into_bytes(),
             xyz_to_string(&map).into_bytes(),
         ] {
@@ -231,12 +372,34 @@ proptest! {
 
     #[test]
     fn mutated_sur_headers_never_panic(
+        compressed in any::<bool>(),
         fields in proptest::collection::vec((0usize..512, any::<u8>()), 1..12),
     ) {
-        let mut b = sur_to_bytes(&sample()).unwrap();
+        let mut b = if compressed {
+            sur_to_bytes_compressed(&sample(), 2).unwrap()
+        } else {
+            sur_to_bytes(&sample()).unwrap()
+        };
         for (k, v) in fields {
             b[k] = v;
         }
         let _ = sur_from_bytes(&b);
+    }
+
+    #[test]
+    fn arbitrary_compressed_data_never_panics(
+        data in proptest::collection::vec(any::<u8>(), 0..1024),
+        directory in proptest::collection::vec((0u32..2000, 0u32..2000), 0..4),
+    ) {
+        // Random bytes behind a valid header, and behind a plausible
+        // directory (small sizes, so that the streams are reached).
+        let _ = sur_from_bytes(&compressed_with_block(&data));
+        let mut b = (directory.len() as u32).to_le_bytes().to_vec();
+        for (raw, zip) in &directory {
+            b.extend_from_slice(&raw.to_le_bytes());
+            b.extend_from_slice(&zip.to_le_bytes());
+        }
+        b.extend_from_slice(&data);
+        let _ = sur_from_bytes(&compressed_with_block(&b));
     }
 }

@@ -1,5 +1,6 @@
 //! Digital Surf `.sur` files (read; a minimal writer for tests and export).
 
+use std::io::{Read, Write};
 use std::path::Path;
 
 use crate::error::{TextureError, write_atomic};
@@ -7,6 +8,12 @@ use crate::heightmap::{HeightMap, check_size};
 
 const FMT: &str = "SUR";
 const HEADER: usize = 512;
+/// Header offset of the size of a compressed file's data block (u32).
+const COMPRESSED_SIZE_AT: usize = 324;
+/// zlib cannot inflate more than 1032 bytes per compressed byte (the
+/// longest match, 258 bytes, coded in two bits at best); a stream that
+/// announces more is refused before anything is inflated.
+const MAX_INFLATE_RATIO: u64 = 1032;
 
 fn unit_factor(unit: &str) -> Result<f64, TextureError> {
     let u = unit.trim_matches(|c: char| c.is_whitespace() || c == '\0');
@@ -43,7 +50,8 @@ pub fn read_sur(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 
 /// Read a Digital Surf `.sur` file from its bytes.
 ///
-/// Supported: the classic uncompressed form (signature `DIGITAL SURF`), PC
+/// Supported: the classic uncompressed form (signature `DIGITAL SURF`) and
+/// the compressed form (signature `DSCOMPRESSED`), PC
 /// byte order (format 0, little-endian), one object (the first is read) of
 /// type surface (2) or profile (1), 16- or 32-bit signed integer points.
 /// Header fields used (byte offsets): 98 bits per point (i16), 100 minimum
@@ -56,9 +64,21 @@ pub fn read_sur(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// minimum point − 2` marks a missing point. The data start at `512 +
 /// comment + private` bytes, x fastest.
 ///
-/// Not supported (a [`TextureError::Unsupported`]): compressed files
-/// (`DSCOMPRESSED`), Macintosh byte order, float data, multi-layer or series
-/// objects, RGB surfaces.
+/// Compressed files have the same header; their data block is a directory,
+/// a u32 stream count `m ≥ 1` then `m` pairs of u32 (inflated size,
+/// compressed size), followed by the `m` zlib streams, whose inflated bytes,
+/// concatenated, are the points of the classic form. (Header offset 324,
+/// u32, holds the size of that block; it is not needed to read it.) Every
+/// size is checked before use: the directory and the streams must lie in
+/// the file, the inflated sizes must add up to the `nx·ny` points the
+/// header announces, no stream may announce more than zlib's maximum ratio
+/// (1032) times its compressed size, and each stream is inflated with a
+/// limit of its announced size, which it must fill exactly. A decompression
+/// bomb thus costs at most the memory of the announced surface, and only
+/// once that much compressed data is present.
+///
+/// Not supported (a [`TextureError::Unsupported`]): Macintosh byte order,
+/// float data, multi-layer or series objects, RGB surfaces.
 pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
     if b.len() < HEADER {
         return Err(TextureError::format(
@@ -69,16 +89,16 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
     let i16_at = |o: usize| i16::from_le_bytes([b[o], b[o + 1]]);
     let i32_at = |o: usize| i32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
     let f32_at = |o: usize| f32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]) as f64;
-    match &b[..12] {
-        b"DIGITAL SURF" => {}
-        b"DSCOMPRESSED" => {
-            return Err(TextureError::unsupported(
+    let compressed = match &b[..12] {
+        b"DIGITAL SURF" => false,
+        b"DSCOMPRESSED" => true,
+        _ => {
+            return Err(TextureError::format(
                 FMT,
-                "compressed (DSCOMPRESSED) files",
+                "no DIGITAL SURF or DSCOMPRESSED signature",
             ));
         }
-        _ => return Err(TextureError::format(FMT, "no DIGITAL SURF signature")),
-    }
+    };
     if i16_at(12) != 0 {
         return Err(TextureError::unsupported(
             FMT,
@@ -130,14 +150,22 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
     let private = i16_at(336).max(0) as usize;
     let start = HEADER + comment + private;
     let need = n as u64 * size as u64;
-    let avail = b.len().saturating_sub(start) as u64;
-    if avail < need {
-        return Err(TextureError::format(
-            FMT,
-            format!("truncated: {nx} × {ny} points of {bits} bits need {need} bytes, {avail} left"),
-        ));
-    }
-    let data = &b[start..start + need as usize];
+    let inflated;
+    let data = if compressed {
+        inflated = inflate_points(b.get(start..).unwrap_or_default(), need)?;
+        &inflated[..]
+    } else {
+        let avail = b.len().saturating_sub(start) as u64;
+        if avail < need {
+            return Err(TextureError::format(
+                FMT,
+                format!(
+                    "truncated: {nx} × {ny} points of {bits} bits need {need} bytes, {avail} left"
+                ),
+            ));
+        }
+        &b[start..start + need as usize]
+    };
     let mut h = Vec::with_capacity(n);
     for c in data.chunks_exact(size) {
         let raw = if size == 2 {
@@ -153,6 +181,77 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
     }
     HeightMap::from_nan_heights(nx, ny, dx, dy, h)
         .map_err(|e| TextureError::format(FMT, e.to_string()))
+}
+
+/// The points of a compressed file's data block `block` (directory, then
+/// zlib streams), `need` bytes once inflated; see [`sur_from_bytes`].
+fn inflate_points(block: &[u8], need: u64) -> Result<Vec<u8>, TextureError> {
+    let u32_at = |o: usize| -> Result<u64, TextureError> {
+        block
+            .get(o..o + 4)
+            .map(|v| u32::from_le_bytes([v[0], v[1], v[2], v[3]]) as u64)
+            .ok_or_else(|| TextureError::format(FMT, "truncated stream directory"))
+    };
+    let count = u32_at(0)?;
+    let dir_end = 4 + 8 * count;
+    if count == 0 || dir_end > block.len() as u64 {
+        return Err(TextureError::format(
+            FMT,
+            format!(
+                "{count} compressed streams (need ≥ 1, directory within {} data bytes)",
+                block.len()
+            ),
+        ));
+    }
+    let mut streams = Vec::with_capacity(count as usize);
+    let (mut at, mut total) = (dir_end, 0u64);
+    for k in 0..count as usize {
+        let (raw, zip) = (u32_at(4 + 8 * k)?, u32_at(8 + 8 * k)?);
+        if at + zip > block.len() as u64 {
+            return Err(TextureError::format(
+                FMT,
+                format!("truncated: stream {k} of {zip} bytes ends past the file"),
+            ));
+        }
+        if raw > MAX_INFLATE_RATIO * zip + 64 {
+            return Err(TextureError::format(
+                FMT,
+                format!("stream {k} announces {raw} bytes from {zip} compressed ones"),
+            ));
+        }
+        total += raw;
+        streams.push((at as usize, zip as usize, raw));
+        at += zip;
+    }
+    if total != need {
+        return Err(TextureError::format(
+            FMT,
+            format!("the streams inflate to {total} bytes, the header's points take {need}"),
+        ));
+    }
+    // Grown as inflated, never sized from the header alone.
+    let mut out = Vec::new();
+    for (k, &(at, zip, raw)) in streams.iter().enumerate() {
+        let before = out.len() as u64;
+        flate2::read::ZlibDecoder::new(&block[at..at + zip])
+            .take(raw + 1)
+            .read_to_end(&mut out)
+            .map_err(|e| TextureError::format(FMT, format!("stream {k}: {e}")))?;
+        let got = out.len() as u64 - before;
+        if got > raw {
+            return Err(TextureError::format(
+                FMT,
+                format!("stream {k} inflates to more than the {raw} bytes announced"),
+            ));
+        }
+        if got < raw {
+            return Err(TextureError::format(
+                FMT,
+                format!("stream {k} inflates to {got} bytes, {raw} announced"),
+            ));
+        }
+    }
+    Ok(out)
 }
 
 /// The bytes of a classic `.sur` file holding `map`: 32-bit points, µm
@@ -203,7 +302,63 @@ pub fn sur_to_bytes(map: &HeightMap) -> Result<Vec<u8>, TextureError> {
     Ok(b)
 }
 
+/// The bytes of a compressed (`DSCOMPRESSED`) `.sur` file holding `map`:
+/// the header and points of [`sur_to_bytes`], the points split into
+/// `streams` runs of whole points (the last one shorter), each compressed
+/// into its own zlib stream.
+///
+/// Refused with [`TextureError::InvalidParameter`]: `streams` of 0 or more
+/// than the number of points.
+pub fn sur_to_bytes_compressed(map: &HeightMap, streams: usize) -> Result<Vec<u8>, TextureError> {
+    let n = map.nx() * map.ny();
+    if streams == 0 || streams > n {
+        return Err(TextureError::InvalidParameter {
+            name: "SUR compressed streams",
+            value: streams as f64,
+            requirement: "between 1 and the number of points",
+        });
+    }
+    let classic = sur_to_bytes(map)?;
+    let (header, points) = classic.split_at(HEADER);
+    let per = n.div_ceil(streams) * 4;
+    let mut dir = (streams as u32).to_le_bytes().to_vec();
+    let mut body = Vec::new();
+    for run in points.chunks(per) {
+        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+        let zip = z
+            .write_all(run)
+            .and_then(|()| z.finish())
+            .map_err(|e| TextureError::format(FMT, format!("compressing: {e}")))?;
+        dir.extend_from_slice(&(run.len() as u32).to_le_bytes());
+        dir.extend_from_slice(&(zip.len() as u32).to_le_bytes());
+        body.extend_from_slice(&zip);
+    }
+    // `chunks` gives fewer runs than asked when the last ones would be empty
+    // (e.g. 5 points in 4 streams: runs of 2, 2, 1): write the true count.
+    let count = (dir.len() - 4) / 8;
+    dir[..4].copy_from_slice(&(count as u32).to_le_bytes());
+    let block = dir.len() + body.len();
+    let mut b = header.to_vec();
+    b[..12].copy_from_slice(b"DSCOMPRESSED");
+    let block = u32::try_from(block)
+        .map_err(|_| TextureError::unsupported(FMT, "compressed data over 4 GiB"))?;
+    b[COMPRESSED_SIZE_AT..COMPRESSED_SIZE_AT + 4].copy_from_slice(&block.to_le_bytes());
+    b.extend_from_slice(&dir);
+    b.extend_from_slice(&body);
+    Ok(b)
+}
+
 /// Write a `.sur` file (whole or not at all; see [`sur_to_bytes`]).
 pub fn write_sur(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), TextureError> {
     write_atomic(path.as_ref(), &sur_to_bytes(map)?)
+}
+
+/// Write a compressed `.sur` file (whole or not at all; see
+/// [`sur_to_bytes_compressed`]).
+pub fn write_sur_compressed(
+    map: &HeightMap,
+    path: impl AsRef<Path>,
+    streams: usize,
+) -> Result<(), TextureError> {
+    write_atomic(path.as_ref(), &sur_to_bytes_compressed(map, streams)?)
 }
