@@ -5,11 +5,14 @@
 //! figure, and thread scaling (`Par::Seq` against `Par::rayon(2)`).
 //!
 //! Targets on the project's 2-core machine: N = 10⁴ under 2 s, N = 10⁵
-//! under 30 s. Results: docs/performance.md.
+//! under 30 s. Results: docs/performance.md. The whole run takes about ten
+//! minutes (`cargo bench --bench scaling`; a group alone with e.g.
+//! `cargo bench --bench scaling -- scaling/matvec`).
 
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use rayon::prelude::*;
 use tyreroad::multipoint::{
     Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, SolverOptions, solve,
 };
@@ -42,7 +45,8 @@ fn bench_solve_vs_n(c: &mut Criterion) {
             s.load_steps
         );
         if n >= 10_000 {
-            // One timed solve is the measurement at this size.
+            // Ten single-solve samples (criterion's minimum): N = 10⁵ takes
+            // 15–25 s a solve, so this group alone runs for 3–5 minutes.
             group.sample_size(10);
             group.measurement_time(Duration::from_secs(1));
         }
@@ -54,15 +58,24 @@ fn bench_solve_vs_n(c: &mut Criterion) {
 }
 
 fn bench_crossover(c: &mut Criterion) {
+    // Both paths at sizes around `SolverOptions::krylov_min_active` (active
+    // count ≈ 0.73 N on this field), 2 threads.
     let mut group = c.benchmark_group("scaling/crossover");
     group.sample_size(10);
-    for n in [500usize, 1000, 2000, 4000] {
+    group.warm_up_time(Duration::from_millis(200));
+    for n in [1000usize, 1500, 2000, 3000] {
         let problem = random_field(n, 2006);
         for (name, solver) in [
             ("dense", LinearSolver::Dense),
             ("krylov", LinearSolver::Krylov),
         ] {
             let opts = options(solver, Par::rayon(2));
+            let s = solve(&problem, Control::Load(load(n)), &opts).expect("converges");
+            eprintln!(
+                "crossover N = {n} {name}: {} in contact, {} iterations",
+                s.contact_count(),
+                s.iterations
+            );
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
                 b.iter(|| solve(&problem, Control::Load(load(n)), &opts).expect("converges"))
             });
@@ -86,6 +99,19 @@ fn bench_matvec(c: &mut Criterion) {
                 .for_each(|(a, (b, c))| *a = b + 0.5 * c)
         })
     });
+    group.bench_function("triad_2threads", |bench| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .expect("pool");
+        bench.iter(|| {
+            pool.install(|| {
+                a.par_iter_mut()
+                    .zip(b.par_iter().zip(&cc))
+                    .for_each(|(a, (b, c))| *a = b + 0.5 * c)
+            })
+        })
+    });
     group.finish();
 
     let mut group = c.benchmark_group("scaling/matvec");
@@ -105,15 +131,11 @@ fn bench_matvec(c: &mut Criterion) {
                     |b, _| b.iter(|| exact.apply(&x, &mut out, par)),
                 );
             }
-            for order in [6usize, 10] {
-                let op = FastBoussinesq::new(
-                    problem.positions(),
-                    f,
-                    FastOptions {
-                        order,
-                        ..FastOptions::default()
-                    },
-                );
+            // Order 6 on 48-summit leaves: the Krylov products; order 10 on
+            // 133-summit leaves: the solver's residual operator.
+            for (order, leaf_size) in [(6usize, 48usize), (10, 133)] {
+                let op =
+                    FastBoussinesq::new(problem.positions(), f, FastOptions { order, leaf_size });
                 group.bench_with_input(
                     BenchmarkId::new(format!("fast{order}_{label}"), n),
                     &n,

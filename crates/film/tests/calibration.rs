@@ -13,8 +13,7 @@ fn llw_chart_loads_four_curves_over_the_film_range() -> Result<()> {
     }
     // The shipped data file is the one the crate embeds.
     let on_disk = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("data/fuji-llw-density-curves.csv"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/fuji-llw-density-curves.csv"),
     )
     .map_err(|reason| FilmError::Io {
         path: "fixture".into(),

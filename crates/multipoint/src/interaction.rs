@@ -3,6 +3,8 @@
 use faer::Par;
 use rayon::prelude::*;
 
+use crate::fast::near_sum;
+
 /// The interaction coefficients `T_ij = (1 − ν²) / (π E r_ij)` for `i ≠ j`,
 /// `T_ii = 0` (the self-compliance lives in each asperity's law).
 ///
@@ -37,18 +39,19 @@ impl<'a> Boussinesq<'a> {
     }
 
     /// `u = T · forces`: the displacement each summit receives from the forces
-    /// on all the others. Only the non-zero forces are visited.
+    /// on all the others. Only the non-zero forces are visited (gathered
+    /// first, so the inner loop runs branch-free and vectorises); summits at
+    /// the same position as the target, itself included, contribute nothing.
     pub fn apply(&self, forces: &[f64], out: &mut [f64], par: Par) {
+        let (q, pts): (Vec<f64>, Vec<[f64; 2]>) = forces
+            .iter()
+            .zip(self.positions)
+            .filter(|(p, _)| **p != 0.0)
+            .map(|(&p, &x)| (p, x))
+            .unzip();
         let row = |i: usize| -> f64 {
             let [xi, yi] = self.positions[i];
-            let mut sum = 0.0;
-            for (j, (&p, q)) in forces.iter().zip(self.positions).enumerate() {
-                if p != 0.0 && j != i {
-                    let (dx, dy) = (xi - q[0], yi - q[1]);
-                    sum += p / (dx * dx + dy * dy).sqrt();
-                }
-            }
-            self.factor * sum
+            self.factor * near_sum(xi, yi, &q, &pts)
         };
         match par {
             Par::Seq => out.iter_mut().enumerate().for_each(|(i, u)| *u = row(i)),

@@ -45,12 +45,16 @@
 //!   leaves (spatial clusters of ~48 summits) plus a coarse Galerkin
 //!   correction on piecewise-constant functions of ≤ 1024 larger clusters.
 //!   The linear solves are inexact (Eisenstat–Walker forcing terms, choice 2,
-//!   `η ≤ 0.1`), so early iterations are cheap; the Newton loop still stops
-//!   only when the nonlinear residual meets the same tolerance as the dense
-//!   path, and a step whose line search fails is recomputed with `η = 1e-10`.
+//!   `η ≤ 0.1`, safeguarded against over-solving the last step), so early
+//!   iterations are cheap; the load border's second solve (`M y = 1`) is
+//!   solved only as tightly as the approach increment needs. The Newton
+//!   loop still stops only when the nonlinear residual meets the same
+//!   tolerance as the dense path, and a step whose line search fails is
+//!   recomputed with `η = 1e-10`.
 //!
 //! [`LinearSolver::Auto`] (the default) goes dense for fewer than
-//! [`SolverOptions::krylov_min_active`] active asperities when the matrix fits
+//! [`SolverOptions::krylov_min_active`] (1200, the measured crossover)
+//! active asperities when the matrix fits
 //! [`SolverOptions::dense_memory_limit_bytes`] (1 GiB), Krylov otherwise. No
 //! `n_A × n_A` matrix is ever allocated above that limit: an explicit
 //! [`LinearSolver::Dense`] request over it fails with
@@ -62,11 +66,31 @@
 //! multipole operator [`FastBoussinesq`] (Chebyshev-interpolated far field,
 //! exact near field, `O(N)`): residuals at [`SolverOptions::fast_operator`]
 //! accuracy (order 10, relative error ≈ 1e-10) and Krylov products at about
-//! half the digits. Newton then solves the system of that operator to the
-//! tolerance; its forces differ from the exact-kernel ones by about the
-//! operator's error (measured: 5e-9 relative at N = 1600–2500).
+//! half the digits (order 6). While the residual is still far above the
+//! error of the order-6 operator (100 × its effect on the residual, measured
+//! once per solve), Newton evaluates its residuals and line searches with
+//! that cheaper operator too; the accurate one takes over below and judges
+//! convergence. Newton thus solves the system of the order-10 operator to
+//! the tolerance; its forces differ from the exact-kernel ones by about the
+//! operator's error (measured: 5e-9 relative at N = 900–2500).
 //!
-//! //! # Example
+//! # Large patches: the coarse start
+//!
+//! From [`SolverOptions::coarse_start_min_n`] asperities (4096), a cold solve
+//! starts from nested coarse problems on clusters of neighbouring asperities
+//! (about N/10, N/100, … clusters, each cluster's law the sum of its members'
+//! laws with the self-compliance of its own load), the coarsest solved from
+//! the uncoupled state, each finer level and finally the asperities reached
+//! by one Jacobi step. On a large patch the coupling's bowl-shaped
+//! displacement (tens of millimetres at N = 10⁵) dwarfs the
+//! interpenetrations (a tenth of a millimetre), and the uncoupled start cost
+//! Newton 21 iterations with short, backtracked steps there; from the coarse
+//! start it takes 9 (6 at N = 10⁴). See docs/performance.md.
+//!
+//! Setting the environment variable `TYREROAD_PROFILE` prints one line of
+//! timings and Krylov products per Newton iteration to stderr.
+//!
+//! # Example
 //!
 //! ```
 //! use tyreroad_asperity::Sphere;
@@ -89,6 +113,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod coarse;
 mod fast;
 mod interaction;
 mod krylov;

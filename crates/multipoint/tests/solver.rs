@@ -303,3 +303,74 @@ fn pressure_map_integrates_to_the_total_force() {
     let a = (0.75 * p * r / rubber().reduced_modulus()).cbrt();
     assert!(rel(contacts[0].radius, a) < 1e-12);
 }
+
+/// A Hertz-like law `P = a δ^{3/2}` that turns 30 times stiffer past
+/// `δ_k`: continuous `P`, a jump of `k`, like a tabulated law at a node or
+/// at a ramp's end.
+struct KinkedLaw {
+    a: f64,
+    kink: f64,
+}
+
+impl KinkedLaw {
+    const RATIO: f64 = 30.0;
+}
+
+impl ContactLaw for KinkedLaw {
+    fn evaluate(&self, depth: f64) -> tyreroad_contact_law::LawPoint {
+        let (force, stiffness) = if !(depth > 0.0) {
+            (0.0, 0.0)
+        } else if depth <= self.kink {
+            (self.a * depth.powf(1.5), 1.5 * self.a * depth.sqrt())
+        } else {
+            let k = Self::RATIO * 1.5 * self.a * self.kink.sqrt();
+            (self.a * self.kink.powf(1.5) + k * (depth - self.kink), k)
+        };
+        tyreroad_contact_law::LawPoint { force, stiffness }
+    }
+
+    fn local_contact(&self, force: f64, _depth: f64) -> tyreroad_contact_law::LocalContact {
+        tyreroad_contact_law::LocalContact {
+            force,
+            radius: 0.0,
+            profile: tyreroad_contact_law::PressureProfile::Hertz,
+        }
+    }
+}
+
+#[test]
+fn solution_at_a_law_kink_converges_at_the_default_tolerance() {
+    // Five coupled asperities 30 mm apart; the gaps are built so that the
+    // exact solution puts asperity 2 exactly on its kink and the others on
+    // the smooth parts of their laws below it. (Soft laws and a wide pitch
+    // keep diag(1/k) + T positive definite even past a kink, so the
+    // solution is unique.) A tangent Newton step taken from either side of
+    // the kink mispredicts that contact's force change 30-fold. (This small
+    // case converges with or without the secant corrections; the stall they
+    // cure needs a dense layout: tests/texture_rolling.rs at the root.)
+    let m = rubber();
+    let a = 2e5;
+    let kink = 2e-4;
+    let positions: Vec<[f64; 2]> = (0..5).map(|i| [i as f64 * 3e-2, 0.0]).collect();
+    let depths = [1.5e-4, 1.8e-4, kink, 1.2e-4, 1.9e-4];
+    let laws: Vec<KinkedLaw> = (0..5).map(|_| KinkedLaw { a, kink }).collect();
+    let forces: Vec<f64> = depths.iter().zip(&laws).map(|(&d, l)| l.force(d)).collect();
+    let mut u = vec![0.0; 5];
+    Boussinesq::new(&positions, m.boussinesq_factor()).apply(&forces, &mut u, Par::Seq);
+    let approach = 1e-3;
+    let gaps: Vec<f64> = (0..5).map(|i| approach - depths[i] - u[i]).collect();
+    let problem = Problem::new(positions, gaps, laws, m).unwrap();
+    let total: f64 = forces.iter().sum();
+    for control in [Control::Approach(approach), Control::Load(total)] {
+        let s = solve(&problem, control, &SolverOptions::default()).unwrap();
+        assert!(s.residual <= 1e-11, "{control:?}: {}", s.residual);
+        for (got, want) in s.forces.iter().zip(&forces) {
+            assert!(
+                rel(*got, *want) < 1e-9,
+                "{control:?}: {:?} vs {forces:?}",
+                s.forces
+            );
+        }
+        assert!((s.approach - approach).abs() < 1e-12, "{}", s.approach);
+    }
+}
