@@ -8,6 +8,7 @@
 //!
 //! `cargo run --release --example texture_vs_bem` (docs/validation.md).
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use tyreroad::bem::{self, BemOptions, Grid};
@@ -15,6 +16,7 @@ use tyreroad::contact_law::Material;
 use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
 use tyreroad::texture::{Aggregate, HeightMap, SelfAffine, UNLABELLED, aggregate, self_affine};
 use tyreroad::texture_road::{CapDepth, TextureRoadOptions, texture_road};
+use tyreroad::two_scale::{TwoScaleOptions, two_scale_solution};
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
 
@@ -39,6 +41,8 @@ fn compare(name: &str, map: &HeightMap, loads: &[f64], deep: bool) -> Res<()> {
         .fold(f64::NEG_INFINITY, f64::max);
     let seg = &road.segmentation;
     let index = road.asperity_index.clone();
+    // Each asperity's own surface, for the two-scale contact areas.
+    let shapes = road.local_shapes(&Arc::new(map.clone()))?;
     let problem = Problem::from_heights(road.positions, &road.heights, road.laws, m)?;
 
     // Labels for the BEM: segmentation index → multipoint index; missing
@@ -75,9 +79,9 @@ fn compare(name: &str, map: &HeightMap, loads: &[f64], deep: bool) -> Res<()> {
         (summit_top - grid_top) * 1e6
     );
     println!(
-        "| load (N) | δ MP (µm) | δ MP from grid top (µm) | δ BEM (µm) | contacts MP / BEM | ½Σ|ΔF|/W | top-5 BEM forces (N) vs MP | BEM off-asperity (N) | t MP / BEM (s) |"
+        "| load (N) | δ MP (µm) | δ MP from grid top (µm) | δ BEM (µm) | contacts MP / BEM | ½Σ|ΔF|/W | top-5 BEM forces (N) vs MP | BEM off-asperity (N) | contact area two-scale / half-section / BEM (mm²) | t MP / BEM (s) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for &w in loads {
         let t0 = Instant::now();
         // Tabulated laws are only piecewise smooth: Newton may stall just
@@ -122,11 +126,35 @@ fn compare(name: &str, map: &HeightMap, loads: &[f64], deep: bool) -> Res<()> {
             .take(5)
             .map(|&i| format!("{:.1}/{:.1}", f_bem[i], mp.forces[i]))
             .collect();
+        // Contact areas: each asperity's force re-solved on its own surface
+        // (two-scale), the law's half-section rule, and the full BEM.
+        let half_section: f64 = mp.local_contacts(&problem).iter().map(|c| c.area()).sum();
+        let two = two_scale_solution(
+            &problem,
+            &mp,
+            &shapes,
+            &TwoScaleOptions {
+                map_cell: Some(CELL),
+                ..TwoScaleOptions::default()
+            },
+        )
+        .map(|t| {
+            format!(
+                "{:.1}",
+                t.local.iter().map(|f| f.contact_area).sum::<f64>() * 1e6
+            )
+        })
+        .unwrap_or_else(|e| format!("failed ({e})"));
+        let areas = format!(
+            "{two} / {:.1} / {:.1}",
+            half_section * 1e6,
+            b.contact_area * 1e6
+        );
         // The multipoint approach is measured from the highest refined
         // summit, the BEM's from the highest grid point.
         let mp_from_grid = mp.approach - (summit_top - grid_top);
         println!(
-            "| {w:.0}{retried} | {:.1} | {:.1} | {:.1} | {} / {} | {:.1} % | {} | {:.2} | {:.3} / {:.1} |",
+            "| {w:.0}{retried} | {:.1} | {:.1} | {:.1} | {} / {} | {:.1} % | {} | {:.2} | {areas} | {:.3} / {:.1} |",
             mp.approach * 1e6,
             mp_from_grid * 1e6,
             b.approach * 1e6,

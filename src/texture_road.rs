@@ -1,7 +1,7 @@
 //! From a road texture to the multipoint model, and back to its real shapes.
 //!
 //! A measured or synthesised height map ([`crate::texture::HeightMap`]) is
-//! split into asperity basins ([`crate::texture::segment`]); each basin's
+//! split into asperity basins ([`crate::texture::segment()`]); each basin's
 //! cap measures `Ω(δ)`, `Σ(δ)`, `Γ(δ)` are tabulated on the grid
 //! ([`crate::texture::asperity_cap`], smooth at contact onset) and get the
 //! interaction-potential law with the half-section local rule
@@ -224,9 +224,9 @@ impl TextureRoad {
     /// asperity's basin, relative to its summit height (clamped to `≤ 0`).
     /// Outside the basin (and at invalid points) the shape drops to the
     /// basin's lowest point, so a local solve never touches a neighbour.
-    /// The equivalent radius (which only sizes the local grid) is
-    /// `√(r₁r₂)` of the summit paraboloid when it fits, else `Σ(δ)/(2πδ)` of
-    /// the cap table at a quarter of its depth range.
+    /// The equivalent radius (which only sizes the local grid) is the larger
+    /// of `√(r₁r₂)` of the summit paraboloid (when it fits) and the secant
+    /// radius `Σ(δ)/(2πδ)` of the cap table at a quarter of its depth range.
     ///
     /// # Errors
     /// [`TextureRoadError::InvalidInput`] if `map` is not the map that was
@@ -256,12 +256,16 @@ impl TextureRoad {
                     top: a.summit_height,
                     floor,
                 };
+                // The larger of the summit's curvature radius and the
+                // secant radius of the whole cap: a flat-topped or blunt
+                // chipping has a sharp-looking summit fit but spreads its
+                // contact like a far larger sphere, and the local grid must
+                // be sized for that.
+                let d = 0.25 * law.geometry().max_depth();
+                let secant = law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d);
                 let equivalent_radius = match a.fit {
-                    Some(f) => (f.radii.0 * f.radii.1).sqrt(),
-                    None => {
-                        let d = 0.25 * law.geometry().max_depth();
-                        law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d)
-                    }
+                    Some(f) => (f.radii.0 * f.radii.1).sqrt().max(secant),
+                    None => secant,
                 };
                 LocalShape::Custom {
                     height: Arc::new(move |dx, dy| basin.height(dx, dy)),

@@ -63,6 +63,12 @@ fn main() -> Result<()> {
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;
             let s = scenario::Scenario::parse(&text, &scenario.display().to_string())?;
+            let base = scenario.parent().unwrap_or(std::path::Path::new("."));
+            if let (Some(spec), Some(texture)) = (&s.rolling, &s.texture) {
+                let material = s.material()?;
+                let road = rolling_cmd::texture_road_parts(texture, base, material)?;
+                return rolling_cmd::run_rolling(material, Some(road), spec, &out);
+            }
             if let Some(spec) = &s.rolling {
                 let road = if s.asperities.is_empty() {
                     None
@@ -77,7 +83,6 @@ fn main() -> Result<()> {
                 return rolling_cmd::run_rolling(s.material()?, road, spec, &out);
             }
             if s.texture.is_some() {
-                let base = scenario.parent().unwrap_or(std::path::Path::new("."));
                 return texture_static::run_texture_static(&s, base, &out);
             }
             let (rows, runs) = statics::run_static(&s)?;

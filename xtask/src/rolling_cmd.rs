@@ -11,8 +11,11 @@ use serde::Deserialize;
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_rolling as rolling;
 
+use tyreroad::texture_road::{TextureLaw, texture_road};
+
 use crate::charts::{Series, line_chart};
 use crate::output::Csv;
+use crate::scenario::TextureSpec;
 use crate::units::{Force, Length, Speed};
 
 /// `[rolling]`: a tread rolled along the road.
@@ -215,6 +218,40 @@ pub struct RoadParts<L> {
     pub heights: Vec<f64>,
     /// Contact laws.
     pub laws: Vec<L>,
+}
+
+/// The road of a `[texture]` scenario: the texture's asperities
+/// (`tyreroad::texture_road`), with x along the map's x from its first column
+/// and y centred on the map's mid-width, so a path at `lateral = 0` runs
+/// down the middle of the texture.
+pub fn texture_road_parts(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+) -> Result<RoadParts<TextureLaw>> {
+    let map = texture.height_map(base_dir)?;
+    let road = texture_road(&map, material, &texture.road_options())
+        .context("turning the texture into asperities")?;
+    let segmented = road.segmentation.asperities().len();
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    println!(
+        "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
+        map.length_x(),
+        map.length_y(),
+        map.dx() * 1e3,
+        map.rms().unwrap_or(f64::NAN) * 1e3,
+        road.len(),
+        segmented
+    );
+    Ok(RoadParts {
+        positions: road
+            .positions
+            .iter()
+            .map(|&[x, y]| [x, y - y_mid])
+            .collect(),
+        heights: road.heights,
+        laws: road.laws,
+    })
 }
 
 /// Runs `[rolling]` on the scenario's asperities (`road`), or on
@@ -503,8 +540,19 @@ mod tests {
         assert!((c.speed - 50.0 / 3.6).abs() < 1e-12);
         assert!((c.step - 1e-3).abs() < 1e-15);
         assert!(matches!(c.tread, rolling::Tread::Tyre { .. }));
-        assert!(f.rolling.synthetic_road.is_some());
+        // The road is the synthetic dense asphalt texture.
+        assert!(f.rolling.synthetic_road.is_none());
+        let s = crate::scenario::Scenario::parse(FIXTURE, "fixture")?;
+        let t = s.texture.as_ref().expect("[texture]");
+        assert!(t.synth.is_some() && t.file.is_none());
         Ok(())
+    }
+
+    #[test]
+    fn texture_and_synthetic_road_together_are_refused() {
+        let both = format!("{FIXTURE}\n[rolling.synthetic_road]\nseed = 1\n");
+        let e = crate::scenario::Scenario::parse(&both, "both").expect_err("two roads");
+        assert!(e.to_string().contains("choose one"), "{e}");
     }
 
     #[test]

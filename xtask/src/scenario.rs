@@ -81,6 +81,12 @@ pub enum SynthSpec {
         grading: String,
         /// Chipping shape: "ellipsoid" (default) or "polyhedron".
         shape: Option<String>,
+        /// Summed plan area of the chippings over the map area (default 1.3).
+        coverage: Option<f64>,
+        /// Range `[min, max]` of the embedded fraction of each chipping's
+        /// height (default `[0.3, 0.5]`, a surface dressing; a dense asphalt
+        /// holds its chippings deeper in the mortar).
+        embedding: Option<[f64; 2]>,
         /// Generator seed.
         seed: u64,
     },
@@ -180,6 +186,8 @@ impl SynthSpec {
                 spacing,
                 grading,
                 shape,
+                coverage,
+                embedding,
                 seed,
             } => {
                 let g = match grading.as_str() {
@@ -197,6 +205,12 @@ impl SynthSpec {
                     },
                     Some(other) => bail!("unknown shape `{other}` (ellipsoid, polyhedron)"),
                 };
+                if let Some(c) = coverage {
+                    p.coverage = *c;
+                }
+                if let Some([lo, hi]) = embedding {
+                    p.embedding = (*lo, *hi);
+                }
                 tyreroad_texture::aggregate(&p)?
             }
             SynthSpec::SelfAffine {
@@ -307,6 +321,11 @@ impl Scenario {
             .is_some_and(|r| r.synthetic_road.is_some());
         if scenario.texture.is_some() && !scenario.asperities.is_empty() {
             bail!("scenario {origin}: [texture] and [[asperity]] both given: choose one");
+        }
+        if scenario.texture.is_some() && synthetic_road {
+            bail!(
+                "scenario {origin}: [texture] and [rolling.synthetic_road] both given: choose one"
+            );
         }
         if scenario.asperities.is_empty() && !synthetic_road && scenario.texture.is_none() {
             bail!("scenario {origin}: no [[asperity]] given");
