@@ -1,8 +1,12 @@
-//! Charts as SVG (plotters), written atomically.
+//! Charts as SVG and PNG (plotters), written atomically. Text is set in
+//! DejaVu Sans, embedded (the `dejavu` crate), so PNG charts need no system
+//! fonts.
 
 use std::path::Path;
+use std::sync::OnceLock;
 
 use anyhow::{Result, anyhow};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::output::write_atomic;
@@ -25,10 +29,63 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
+/// Chart size in pixels (SVG user units).
+const SIZE: (u32, u32) = (900, 520);
+
+/// Registers the embedded font under the family name the charts use, once.
+fn register_font() -> Result<()> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(anyhow!("the embedded chart font could not be loaded"))
+    }
+}
+
 /// A line-and-marker chart of several series, like the paper's figures 3
-/// and 4 (a quantity per indenter, one series per load).
+/// and 4 (a quantity per indenter, one series per load): written as SVG to
+/// `path` and as PNG next to it (same name, `.png`).
 pub fn line_chart(
     path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<()> {
+    register_font()?;
+    let mut svg = String::new();
+    draw(
+        SVGBackend::with_string(&mut svg, SIZE).into_drawing_area(),
+        title,
+        x_label,
+        y_label,
+        series,
+    )?;
+    let mut pixels = vec![255u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    draw(
+        BitMapBackend::with_buffer(&mut pixels, SIZE).into_drawing_area(),
+        title,
+        x_label,
+        y_label,
+        series,
+    )?;
+    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, pixels)
+        .ok_or_else(|| anyhow!("chart {title}: pixel buffer of the wrong size"))?;
+    let mut png = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut png, image::ImageFormat::Png)
+        .map_err(|e| anyhow!("chart {title}: encoding PNG: {e}"))?;
+    write_atomic(&path.with_extension("png"), png.get_ref())?;
+    write_atomic(path, svg.as_bytes())
+}
+
+/// Draws the chart on any plotters backend.
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
     title: &str,
     x_label: &str,
     y_label: &str,
@@ -48,9 +105,7 @@ pub fn line_chart(
         return Err(anyhow!("chart {title}: no data"));
     }
     let pad = 0.08 * (y1 - y0).max(f64::MIN_POSITIVE);
-    let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 22))
@@ -92,5 +147,5 @@ pub fn line_chart(
             .map_err(|e| anyhow!("{e}"))?;
         root.present().map_err(|e| anyhow!("{e}"))?;
     }
-    write_atomic(path, svg.as_bytes())
+    Ok(())
 }

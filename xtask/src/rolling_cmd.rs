@@ -378,6 +378,23 @@ fn write_outputs(
     let fs = result.sample_rate;
     let spectrum = |signal: &[f64], r: f64| rolling::third_octave(signal, fs, r, spec.segment);
     let levels = spectrum(&primary, primary_ref)?;
+    // A Welch segment of L samples resolves Δf = fs/L; a band narrower than
+    // two bins (width 0.23 f_c) holds leakage from its neighbours, not its
+    // own content.
+    let segment = spec
+        .segment
+        .unwrap_or_else(|| rolling::default_segment_len(primary.len()));
+    let resolved_from = 2.0 * fs / segment as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
+    if levels
+        .first()
+        .is_some_and(|b| b.band.centre < resolved_from)
+    {
+        println!(
+            "note: with {segment}-sample Welch segments (Δf = {:.1} Hz) the bands below \
+             {resolved_from:.0} Hz are not resolved: roll a longer path for them",
+            fs / segment as f64
+        );
+    }
     let sensor_levels: Vec<Vec<rolling::BandLevel>> = (0..config.sensors.len())
         .map(|k| spectrum(&result.sensor(k), reference))
         .collect::<Result<_, _>>()?;
@@ -612,9 +629,16 @@ mod tests {
             "contact_area.svg",
             "sensors.svg",
             "third_octave.svg",
+            "time_signals.png",
+            "contact_area.png",
+            "sensors.png",
+            "third_octave.png",
         ] {
             assert!(out.join(f).exists(), "{f}");
         }
+        // A real PNG (signature), decodable, of the chart's size.
+        let png = image::open(out.join("third_octave.png"))?;
+        assert_eq!((png.width(), png.height()), (900, 520));
         // Second run: everything from the checkpoint.
         run_rolling::<&tyreroad_contact_law::HertzLaw>(material, None, &spec, &out)?;
         std::fs::remove_dir_all(&out)?;
