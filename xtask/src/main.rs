@@ -92,6 +92,13 @@ fn main() -> Result<()> {
                     "load {} N: Σ P = {:.9} N, δ0 = {:.6e} m, {} contacts, {} iterations",
                     r.load, r.total, r.approach, r.contacts, r.iterations
                 );
+                if r.overlapping > 0 {
+                    println!(
+                        "  note: {} pairs of contacts overlap: the point-force coupling \
+                         does not hold there",
+                        r.overlapping
+                    );
+                }
             }
             for w in statics::write_static_outputs(&out, &s.name, &rows)? {
                 println!("written {w}");

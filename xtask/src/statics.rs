@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use tyreroad_contact_law::{ContactLaw, LocalContact};
-use tyreroad_multipoint::{Control, Problem, SolverOptions, solve};
+use tyreroad_multipoint::{Control, Problem, SolverOptions, overlapping_contacts, solve};
 
 use crate::charts::{Series, line_chart};
 use crate::output::Csv;
@@ -49,6 +49,10 @@ pub struct LoadRun {
     pub residual: f64,
     /// Wall time of the solve (s).
     pub seconds: f64,
+    /// Pairs of loaded asperities whose local contacts overlap, where the
+    /// model's point-force coupling no longer holds
+    /// (`tyreroad_multipoint::overlapping_contacts`).
+    pub overlapping: usize,
 }
 
 /// Solves the scenario's `[static]` loads.
@@ -111,6 +115,7 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
             iterations: s.iterations,
             residual: s.residual,
             seconds,
+            overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
         });
         locals.push(contacts);
     }

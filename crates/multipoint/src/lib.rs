@@ -125,7 +125,7 @@ pub use faer::Par;
 pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::Boussinesq;
 pub use problem::Problem;
-pub use solution::{PressureGrid, Solution, pressure_map};
+pub use solution::{PressureGrid, Solution, overlapping_contacts, pressure_map};
 pub use solver::{Control, LinearSolver, SolverOptions, solve, solve_from};
 pub use tyreroad_contact_law::ContactLaw;
 

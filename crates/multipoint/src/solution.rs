@@ -199,3 +199,44 @@ pub fn pressure_map(
     }
     Ok(map)
 }
+
+/// Pairs `(i, j)`, `i < j`, of loaded asperities whose local contacts
+/// overlap: `a_i + a_j` greater than the distance between their summits.
+///
+/// The model couples asperities through point forces at their summits,
+/// which holds while each contact patch is small against the distance to
+/// its neighbours; overlapping patches (merging contacts on flat-topped
+/// chippings, or summits of one ridge) are where the model's own premise
+/// fails, and its forces there are to be read with care
+/// (docs/validation.md). `contacts` are a solution's
+/// [`Solution::local_contacts`], `positions` the problem's. Cost `O(N log N)` plus the pairs found:
+/// a sweep along x over the contacts sorted by their left edge.
+pub fn overlapping_contacts(
+    positions: &[[f64; 2]],
+    contacts: &[LocalContact],
+) -> Vec<(usize, usize)> {
+    let mut loaded: Vec<usize> = (0..contacts.len().min(positions.len()))
+        .filter(|&i| contacts[i].force > 0.0 && contacts[i].radius > 0.0)
+        .collect();
+    let left = |i: usize| positions[i][0] - contacts[i].radius;
+    loaded.sort_by(|&a, &b| left(a).total_cmp(&left(b)));
+    let mut pairs = Vec::new();
+    for (k, &i) in loaded.iter().enumerate() {
+        let [xi, yi] = positions[i];
+        let right = xi + contacts[i].radius;
+        for &j in &loaded[k + 1..] {
+            // Overlap needs x_j − a_j < x_i + a_i: sorted by left edge,
+            // no later contact reaches i once one left edge is past.
+            if left(j) >= right {
+                break;
+            }
+            let [xj, yj] = positions[j];
+            let reach = contacts[i].radius + contacts[j].radius;
+            if (xi - xj).powi(2) + (yi - yj).powi(2) < reach * reach {
+                pairs.push((i.min(j), i.max(j)));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}

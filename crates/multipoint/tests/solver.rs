@@ -374,3 +374,49 @@ fn solution_at_a_law_kink_converges_at_the_default_tolerance() {
         assert!((s.approach - approach).abs() < 1e-12, "{}", s.approach);
     }
 }
+
+#[test]
+fn overlapping_contacts_are_the_pairs_whose_radii_exceed_their_spacing() {
+    // The paper's grid at 500 N: radii ≈ 1.8–2.3 mm at a 10 mm pitch.
+    let grid = paper_grid();
+    let s = solve(&grid, Control::Load(500.0), &SolverOptions::default()).unwrap();
+    let contacts = s.local_contacts(&grid);
+    assert!(overlapping_contacts(grid.positions(), &contacts).is_empty());
+
+    // Balls R = 5 mm at a 3 mm pitch pressed hard: Hertz radii of 2–3 mm.
+    let positions: Vec<[f64; 2]> = (0..4).map(|i| [i as f64 * 3e-3, 0.0]).collect();
+    let close = Problem::new(positions, vec![0.0; 4], vec![ball(5e-3); 4], rubber()).unwrap();
+    let s = solve(&close, Control::Load(60.0), &SolverOptions::default()).unwrap();
+    let contacts = s.local_contacts(&close);
+    let pairs = overlapping_contacts(close.positions(), &contacts);
+    assert!(
+        pairs.contains(&(0, 1)) && pairs.contains(&(1, 2)),
+        "{pairs:?}"
+    );
+
+    // Against the brute-force O(N²) search on a random field of radii.
+    let mut seed = 7;
+    let positions: Vec<[f64; 2]> = (0..300)
+        .map(|_| [0.1 * lcg(&mut seed), 0.1 * lcg(&mut seed)])
+        .collect();
+    let contacts: Vec<tyreroad_contact_law::LocalContact> = (0..300)
+        .map(|_| tyreroad_contact_law::LocalContact {
+            force: if lcg(&mut seed) < 0.8 { 1.0 } else { 0.0 },
+            radius: 4e-3 * lcg(&mut seed),
+            profile: tyreroad_contact_law::PressureProfile::Hertz,
+        })
+        .collect();
+    let mut brute = Vec::new();
+    for i in 0..300 {
+        for j in i + 1..300 {
+            let (a, b) = (&contacts[i], &contacts[j]);
+            let d2 = (positions[i][0] - positions[j][0]).powi(2)
+                + (positions[i][1] - positions[j][1]).powi(2);
+            if a.force > 0.0 && b.force > 0.0 && d2 < (a.radius + b.radius).powi(2) {
+                brute.push((i, j));
+            }
+        }
+    }
+    assert!(brute.len() > 20, "{}", brute.len());
+    assert_eq!(overlapping_contacts(&positions, &contacts), brute);
+}
