@@ -348,7 +348,7 @@ fn write_outputs(
     out: &Path,
 ) -> Result<()> {
     let mut ts = Csv::new(
-        "time_s,position_m,total_force_n,approach_m,contact_area_m2,n_contacts,n_selected,iterations,clearance_m",
+        "time_s,position_m,total_force_n,approach_m,contact_area_m2,n_contacts,n_selected,iterations,clearance_m,n_overlapping",
     );
     for s in &result.steps {
         ts.row(&[
@@ -361,9 +361,24 @@ fn write_outputs(
             s.selected.to_string(),
             s.iterations.to_string(),
             format!("{:.6e}", s.clearance),
+            s.overlapping.to_string(),
         ]);
     }
     ts.write(&out.join("time_signals.csv"))?;
+    let overlapping_steps = result.steps.iter().filter(|s| s.overlapping > 0).count();
+    if overlapping_steps > 0 {
+        println!(
+            "note: at {overlapping_steps} of {} steps some contact patches overlap (up to {} \
+             pairs, column n_overlapping): the point-force coupling does not hold there",
+            result.steps.len(),
+            result
+                .steps
+                .iter()
+                .map(|s| s.overlapping)
+                .max()
+                .unwrap_or(0)
+        );
+    }
 
     // Spectra: the total force under displacement control (dB re the
     // reference force), the approach under load control (dB re 1 µm);

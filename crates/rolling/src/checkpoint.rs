@@ -20,8 +20,9 @@ use crate::run::{Carry, CheckpointOptions, RollingConfig, RollingControl, StepRe
 use crate::{Road, RollingError, Tread};
 
 // Version 2: sensors integrate each contact's pressure instead of counting
-// summits, so version-1 records are not reused.
-const MAGIC: &str = "tyreroad-rolling-checkpoint 2";
+// summits, so version-1 records are not reused. Version 3: records carry the
+// count of overlapping contacts.
+const MAGIC: &str = "tyreroad-rolling-checkpoint 3";
 
 /// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
 /// `DefaultHasher`).
@@ -142,11 +143,12 @@ pub(crate) fn save(
     for r in records {
         let _ = write!(
             text,
-            "{} {} {} {} {}",
+            "{} {} {} {} {} {}",
             r.index,
             r.contacts,
             r.selected,
             r.iterations,
+            r.overlapping,
             r.sensor_forces.len()
         );
         for v in [
@@ -246,7 +248,8 @@ fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), 
         let mut it = line.split_ascii_whitespace();
         let mut int =
             || -> Result<usize, String> { it.next().and_then(|t| t.parse().ok()).ok_or_else(bad) };
-        let (index, contacts, selected, iterations, ns) = (int()?, int()?, int()?, int()?, int()?);
+        let (index, contacts, selected, iterations, overlapping, ns) =
+            (int()?, int()?, int()?, int()?, int()?, int()?);
         if ns != sensors {
             return Err(bad());
         }
@@ -268,6 +271,7 @@ fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), 
             selected,
             iterations,
             clearance: floats[5],
+            overlapping,
             sensor_forces: floats[6..].to_vec(),
         });
     }

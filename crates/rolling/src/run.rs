@@ -9,7 +9,9 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use tyreroad_contact_law::{ContactLaw, LocalContact, Material, PressureProfile};
-use tyreroad_multipoint::{Boussinesq, Control, Par, Problem, Solution, SolverOptions, solve_from};
+use tyreroad_multipoint::{
+    Boussinesq, Control, Par, Problem, Solution, SolverOptions, overlapping_contacts, solve_from,
+};
 
 use crate::checkpoint;
 use crate::{Road, RollingError, Tread};
@@ -323,6 +325,10 @@ pub struct StepRecord {
     /// selection has a gap larger than the approach, so it would carry
     /// exactly zero and the truncation is exact. Infinite for a block.
     pub clearance: f64,
+    /// Pairs of contacts whose patches overlap (radii sum over their
+    /// spacing), where the model's point-force coupling does not hold
+    /// (`tyreroad_multipoint::overlapping_contacts`).
+    pub overlapping: usize,
     /// Force on each sensor (N), in the order of [`RollingConfig::sensors`].
     pub sensor_forces: Vec<f64>,
 }
@@ -485,6 +491,7 @@ fn solve_step<L: ContactLaw + Sync>(
         selected: 0,
         iterations: 0,
         clearance: boundary - approach,
+        overlapping: 0,
         sensor_forces: vec![0.0; config.sensors.len()],
     };
     if scratch.ids.is_empty() {
@@ -565,6 +572,7 @@ fn solve_step<L: ContactLaw + Sync>(
         selected: ids.len(),
         iterations: solution.iterations,
         clearance: boundary - solution.approach,
+        overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
         sensor_forces,
     };
     *carry = Some(Carry {

@@ -118,8 +118,11 @@ fn single_step_equals_direct_static_solve() -> TestResult {
         assert!(step.contacts > 5, "{step:?}");
         assert!(close(step.total_force, s.total_force(), 1e-10), "{step:?}");
         assert!(close(step.approach, s.approach, 1e-10), "{step:?}");
-        let area: f64 = s.local_contacts(&problem).iter().map(|c| c.area()).sum();
+        let contacts = s.local_contacts(&problem);
+        let area: f64 = contacts.iter().map(|c| c.area()).sum();
         assert!(close(step.contact_area, area, 1e-10), "{step:?} vs {area}");
+        let overlapping = tyreroad_multipoint::overlapping_contacts(problem.positions(), &contacts);
+        assert_eq!(step.overlapping, overlapping.len());
         assert_eq!(step.time, xc / 13.9);
     }
     Ok(())
