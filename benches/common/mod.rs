@@ -7,6 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::{Material, PotentialLaw};
 use tyreroad::multipoint::Problem;
+use tyreroad::multipoint::layouts::road_like_field;
 
 /// The benchmarks' ball law.
 pub type Law = PotentialLaw<Sphere>;
@@ -17,30 +18,11 @@ pub fn rubber() -> Material {
 }
 
 /// N balls at a mean spacing of 3 mm (road-like chipping density), radii
-/// 1–5 mm, summit heights spread over 0.5 mm.
+/// 1–5 mm, summit heights spread over 0.5 mm:
+/// `tyreroad::multipoint::layouts::road_like_field` drawn from ChaCha8.
 pub fn random_field(n: usize, seed: u64) -> Problem<Law> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    // Chippings do not overlap: summits on a 3 mm grid jittered by ±1 mm (a
-    // uniform scatter puts summits microns apart, where the point-force
-    // coupling 1/r swamps the laws and the model itself breaks down).
-    let columns = (n as f64).sqrt().ceil() as usize;
-    let positions = (0..n)
-        .map(|k| {
-            let (i, j) = ((k % columns) as f64, (k / columns) as f64);
-            [
-                3e-3 * i + 2e-3 * (rng.random::<f64>() - 0.5),
-                3e-3 * j + 2e-3 * (rng.random::<f64>() - 0.5),
-            ]
-        })
-        .collect();
-    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
-    let laws = (0..n)
-        .map(|_| {
-            let r = 1e-3 + 4e-3 * rng.random::<f64>();
-            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
+    road_like_field(n, rubber(), || rng.random::<f64>()).expect("problem")
 }
 
 /// A load giving a contact pressure of 0.2 MPa over the field, like a tyre.

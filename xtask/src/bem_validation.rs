@@ -12,9 +12,8 @@ use tyreroad::two_scale::{LocalShape, TwoScale, TwoScaleOptions, two_scale};
 use tyreroad_bem::{BemOptions, Control, Grid, Solver, Sphere, nearest_labels, spherical_caps};
 use tyreroad_multipoint::solve;
 
-use crate::output::Csv;
 use crate::scenario::{Scenario, ShapeSpec};
-use crate::statics::{STATIC_CSV_HEADER, StaticRow, loads};
+use crate::statics::{StaticRow, loads, write_static_csv};
 
 /// BEM cell size (m): per-ball forces change by < 0.05 % from 0.1 to
 /// 0.05 mm on this case (docs/bem.md, grid convergence).
@@ -126,21 +125,6 @@ fn differences(a: &[f64], b: &[f64]) -> (f64, f64, usize) {
         }
     }
     (max, sum / count.max(1) as f64, arg)
-}
-
-fn write_rows(path: &Path, rows: &[StaticRow]) -> Result<()> {
-    let mut csv = Csv::new(STATIC_CSV_HEADER);
-    for r in rows {
-        csv.row(&[
-            format!("{}", r.load),
-            r.id.to_string(),
-            format!("{:e}", r.x),
-            format!("{:e}", r.y),
-            format!("{:.9e}", r.force),
-            format!("{:.9e}", r.radius),
-        ]);
-    }
-    csv.write(path)
 }
 
 /// Solves the scenario by the BEM at every load of `rows` (the multipoint
@@ -358,10 +342,10 @@ pub fn run(rows: &[StaticRow], scenario: &Scenario, out: &Path) -> Result<BemRep
 
     let mut written = Vec::new();
     let bem_path = out.join(format!("{}_bem.csv", scenario.name));
-    write_rows(&bem_path, &bem_rows)?;
+    write_static_csv(&bem_path, &bem_rows)?;
     written.push(bem_path.display().to_string());
     let two_path = out.join(format!("{}_two_scale.csv", scenario.name));
-    write_rows(&two_path, &two_rows)?;
+    write_static_csv(&two_path, &two_rows)?;
     written.push(two_path.display().to_string());
     if let Some((_, ts)) = two.iter().find(|(l, _)| *l == shown)
         && let Some(map) = &ts.map

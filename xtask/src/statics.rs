@@ -125,19 +125,8 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
 /// Writes `DIR/NAME.csv` and the charts `DIR/NAME_forces.svg`,
 /// `DIR/NAME_radii.svg`; returns the paths written.
 pub fn write_static_outputs(dir: &Path, name: &str, rows: &[StaticRow]) -> Result<Vec<String>> {
-    let mut csv = Csv::new(STATIC_CSV_HEADER);
-    for r in rows {
-        csv.row(&[
-            format!("{}", r.load),
-            r.id.to_string(),
-            format!("{:e}", r.x),
-            format!("{:e}", r.y),
-            format!("{:.9e}", r.force),
-            format!("{:.9e}", r.radius),
-        ]);
-    }
     let csv_path = dir.join(format!("{name}.csv"));
-    csv.write(&csv_path)?;
+    write_static_csv(&csv_path, rows)?;
     let series = |value: fn(&StaticRow) -> f64| -> Vec<Series> {
         loads(rows)
             .into_iter()
@@ -171,6 +160,22 @@ pub fn write_static_outputs(dir: &Path, name: &str, rows: &[StaticRow]) -> Resul
         .iter()
         .map(|p| p.display().to_string())
         .collect())
+}
+
+/// Writes `rows` as a CSV with [`STATIC_CSV_HEADER`].
+pub fn write_static_csv(path: &Path, rows: &[StaticRow]) -> Result<()> {
+    let mut csv = Csv::new(STATIC_CSV_HEADER);
+    for r in rows {
+        csv.row(&[
+            format!("{}", r.load),
+            r.id.to_string(),
+            format!("{:e}", r.x),
+            format!("{:e}", r.y),
+            format!("{:.9e}", r.force),
+            format!("{:.9e}", r.radius),
+        ]);
+    }
+    csv.write(path)
 }
 
 /// The distinct loads, in order of appearance.

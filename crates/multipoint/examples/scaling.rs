@@ -19,7 +19,7 @@ use tyreroad_asperity::Sphere;
 use tyreroad_contact_law::{Material, PotentialLaw};
 use tyreroad_multipoint::{
     Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, Problem, SolverOptions,
-    solve,
+    layouts, solve,
 };
 
 type Law = PotentialLaw<Sphere>;
@@ -47,27 +47,10 @@ fn random_field(n: usize, seed: u64) -> Problem<Law> {
 }
 
 /// As [`random_field`] but with the summits on a 3 mm grid jittered by
-/// ±1 mm (no two summits closer than 1 mm).
+/// ±1 mm (no two summits closer than 1 mm): `layouts::road_like_field`.
 fn jittered_field(n: usize, seed: u64) -> Problem<Law> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let cols = (n as f64).sqrt().ceil() as usize;
-    let positions = (0..n)
-        .map(|k| {
-            let (i, j) = ((k % cols) as f64, (k / cols) as f64);
-            [
-                3e-3 * (i + 0.5 + (rng.random::<f64>() - 0.5) * 2.0 / 3.0),
-                3e-3 * (j + 0.5 + (rng.random::<f64>() - 0.5) * 2.0 / 3.0),
-            ]
-        })
-        .collect();
-    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
-    let laws = (0..n)
-        .map(|_| {
-            let r = 1e-3 + 4e-3 * rng.random::<f64>();
-            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
+    layouts::road_like_field(n, rubber(), || rng.random::<f64>()).expect("problem")
 }
 
 fn peak_rss_mib() -> f64 {

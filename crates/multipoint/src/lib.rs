@@ -117,6 +117,7 @@ mod coarse;
 mod fast;
 mod interaction;
 mod krylov;
+pub mod layouts;
 mod problem;
 mod solution;
 mod solver;

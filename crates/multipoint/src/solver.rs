@@ -1341,26 +1341,11 @@ mod tests {
         (*seed >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    /// The road-like field of the integration tests: 3 mm jittered grid,
-    /// radii 1–5 mm, heights over 0.5 mm.
+    /// The road-like field of the integration tests.
     fn field(n: usize, seed: u64) -> Problem<PotentialLaw<Sphere>> {
         let rubber = Material::new(6.54e6, 0.5).unwrap();
         let mut s = seed;
-        let cols = (n as f64).sqrt().ceil() as usize;
-        let positions = (0..n)
-            .map(|k| {
-                let (i, j) = ((k % cols) as f64, (k / cols) as f64);
-                [
-                    3e-3 * (i + 0.5 + (lcg(&mut s) - 0.5) * 2.0 / 3.0),
-                    3e-3 * (j + 0.5 + (lcg(&mut s) - 0.5) * 2.0 / 3.0),
-                ]
-            })
-            .collect();
-        let heights: Vec<f64> = (0..n).map(|_| lcg(&mut s) * 5e-4).collect();
-        let laws = (0..n)
-            .map(|_| PotentialLaw::sphere(Sphere::new(1e-3 + 4e-3 * lcg(&mut s)).unwrap(), rubber))
-            .collect();
-        Problem::from_heights(positions, &heights, laws, rubber).unwrap()
+        crate::layouts::road_like_field(n, rubber, || lcg(&mut s)).unwrap()
     }
 
     fn max_rel_diff(a: &[f64], b: &[f64]) -> f64 {
