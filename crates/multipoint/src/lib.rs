@@ -113,6 +113,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod asperity_set;
 mod coarse;
 mod fast;
 mod interaction;
@@ -122,6 +123,7 @@ mod problem;
 mod solution;
 mod solver;
 
+pub use asperity_set::AsperitySet;
 pub use faer::Par;
 pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::Boussinesq;

@@ -2,7 +2,7 @@
 
 use tyreroad_contact_law::{ContactLaw, Material};
 
-use crate::SolveError;
+use crate::{AsperitySet, SolveError};
 
 /// N rigid asperities under one elastic half-space (DESIGN §2.2).
 ///
@@ -90,6 +90,13 @@ impl<L: ContactLaw> Problem<L> {
             laws,
             material,
         )
+    }
+
+    /// A problem from a set of asperities: the tread touches the highest
+    /// summit at `δ0 = 0` (as [`Problem::from_heights`]).
+    pub fn from_set(set: AsperitySet<L>, material: Material) -> Result<Self, SolveError> {
+        let (positions, heights, laws) = set.into_parts();
+        Self::from_heights(positions, &heights, laws, material)
     }
 
     /// Number of asperities N.

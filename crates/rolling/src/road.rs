@@ -1,6 +1,7 @@
 //! A road as a generic set of asperities, indexed by x for window queries.
 
 use tyreroad_contact_law::ContactLaw;
+use tyreroad_multipoint::AsperitySet;
 
 use crate::RollingError;
 
@@ -68,6 +69,14 @@ impl<L: ContactLaw> Road<L> {
             sorted_x,
             top,
         })
+    }
+}
+
+impl<L: ContactLaw> Road<L> {
+    /// A road from a set of asperities (ids are the set's indices).
+    pub fn from_set(set: AsperitySet<L>) -> Result<Self, RollingError> {
+        let (positions, heights, laws) = set.into_parts();
+        Self::new(positions, heights, laws)
     }
 }
 
