@@ -5,7 +5,7 @@
 //! cargo bench --bench bem -- solve/512    # one
 //! ```
 //!
-//! The case is the 25-ball experiment of DESIGN §2.6 (R = 5 mm balls at
+//! The case is the 25-ball experiment of docs/theory.md §4 (R = 5 mm balls at
 //! 10 mm pitch, E = 6.54 MPa, ν = 0.5) at 500 N, load controlled, on a
 //! 51.2 mm square domain: 512² cells of 0.1 mm and 1024² cells of 0.05 mm.
 //! The influence operator is built once outside the timed loop (it is reused

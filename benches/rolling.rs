@@ -7,7 +7,9 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use tyreroad_contact_law::Material;
-use tyreroad_rolling::{RollingConfig, RollingControl, RunOptions, SyntheticRoad, Tread, roll};
+use tyreroad_rolling::{
+    Par, RollingConfig, RollingControl, RunOptions, SyntheticRoad, Tread, roll,
+};
 
 fn rolling(c: &mut Criterion) {
     let rubber = Material::new(6.54e6, 0.5).expect("material");
@@ -34,6 +36,7 @@ fn rolling(c: &mut Criterion) {
     for chunks in [1, 2] {
         let options = RunOptions {
             chunks: Some(chunks),
+            par: Par::rayon(0),
             ..RunOptions::default()
         };
         group.bench_function(

@@ -7,7 +7,7 @@
 //! a relative residual of 5.2e-11 whatever the tolerance.
 
 use tyreroad::contact_law::{ContactLaw, Material};
-use tyreroad::multipoint::{Control, SolverOptions, solve};
+use tyreroad::multipoint::{AsperitySet, Control, SolverOptions, solve};
 use tyreroad::rolling::{Road, RollingConfig, RollingControl, Tread, step_problem};
 use tyreroad::texture::{Aggregate, aggregate};
 use tyreroad::texture_road::{TextureRoadOptions, texture_road};
@@ -28,7 +28,7 @@ fn dense_asphalt_step_with_contacts_on_law_kinks_converges_tightly() -> TestResu
         .iter()
         .map(|&[x, y]| [x, y - y_mid])
         .collect();
-    let road = Road::new(positions, road.heights, road.laws)?;
+    let road = Road::new(AsperitySet::new(positions, road.heights, road.laws)?);
     let tread = Tread::Tyre {
         radius_x: 0.3,
         radius_y: 0.5,

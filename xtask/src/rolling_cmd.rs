@@ -270,7 +270,11 @@ pub fn run_rolling<L: ContactLaw + Sync>(
 ) -> Result<()> {
     match (road, &spec.synthetic_road) {
         (Some(parts), None) => {
-            let road = rolling::Road::new(parts.positions, parts.heights, parts.laws)?;
+            let road = rolling::Road::new(tyreroad_multipoint::AsperitySet::new(
+                parts.positions,
+                parts.heights,
+                parts.laws,
+            )?);
             run_on(&road, material, spec, out)
         }
         (None, Some(synth)) => {
@@ -310,18 +314,11 @@ fn run_on<L: ContactLaw + Sync>(
     };
     let options = rolling::RunOptions {
         chunks: spec.chunks,
+        par: rolling::Par::rayon(spec.threads.unwrap_or(0)),
         checkpoint: spec.checkpoint.then_some(&checkpoint),
         progress: Some(&progress),
     };
-    let run = || rolling::roll(road, material, &config, &options);
-    let result = match spec.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .context("building the thread pool")?
-            .install(run),
-        None => run(),
-    };
+    let result = rolling::roll(road, material, &config, &options);
     bar.finish();
     let result = result?;
     if result.resumed > 0 {

@@ -1,6 +1,6 @@
 //! Multipoint contact of N rigid asperities with an elastic half-space.
 //!
-//! # Equations (Cesbron et al. 2006, eq. 2; DESIGN §2.2)
+//! # Equations (Cesbron et al. 2006, eq. 2; docs/theory.md §3)
 //!
 //! Summit `i` at horizontal position `(x_i, y_i)` has an initial gap `H_i ≥ 0`
 //! to the undeformed tread. With `δ0` the rigid approach of the tread,

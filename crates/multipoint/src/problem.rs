@@ -4,7 +4,7 @@ use tyreroad_contact_law::{ContactLaw, Material};
 
 use crate::{AsperitySet, SolveError};
 
-/// N rigid asperities under one elastic half-space (DESIGN §2.2).
+/// N rigid asperities under one elastic half-space (docs/theory.md §3).
 ///
 /// Invariants checked on construction: at least one asperity, as many
 /// positions, gaps and laws, all coordinates and gaps finite, and no two

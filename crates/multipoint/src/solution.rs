@@ -158,7 +158,7 @@ impl PressureGrid {
 
 /// The pressure map (Pa) of the whole contact patch: the sum of every local
 /// contact's pressure distribution centred on its summit, sampled at the
-/// centres of `grid` (DESIGN §2.3).
+/// centres of `grid` (docs/theory.md §2).
 pub fn pressure_map(
     positions: &[[f64; 2]],
     contacts: &[LocalContact],

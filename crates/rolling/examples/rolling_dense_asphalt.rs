@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use tyreroad_contact_law::Material;
 use tyreroad_rolling::{
-    Progress, RollingConfig, RollingControl, RunOptions, SyntheticRoad, Tread, third_octave,
+    Par, Progress, RollingConfig, RollingControl, RunOptions, SyntheticRoad, Tread, third_octave,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -66,6 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         rubber,
         &config,
         &RunOptions {
+            par: Par::rayon(0),
             progress: Some(&progress),
             ..RunOptions::default()
         },

@@ -16,8 +16,10 @@ use std::path::Path;
 
 use tyreroad_contact_law::{ContactLaw, Material};
 
-use crate::run::{Carry, CheckpointOptions, RollingConfig, RollingControl, StepRecord};
-use crate::{Road, RollingError, Tread};
+use crate::step::Carry;
+use crate::{
+    CheckpointOptions, Road, RollingConfig, RollingControl, RollingError, StepRecord, Tread,
+};
 
 // Version 2: sensors integrate each contact's pressure instead of counting
 // summits, so version-1 records are not reused. Version 3: records carry the

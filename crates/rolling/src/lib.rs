@@ -1,11 +1,11 @@
-//! Rolling-time assembly (DESIGN §2.4, Cesbron et al. 2006 §2.1): a tread
+//! Rolling-time assembly (docs/rolling.md, Cesbron et al. 2006 §2.1): a tread
 //! rolled along a road of asperities, one static multipoint solve per space
 //! step, giving time signals and their one-third-octave spectra.
 //!
 //! # Road and tread
 //!
-//! The road is a generic set of asperities ([`Road`]): summit `i` (its id is
-//! its index) at `(x_i, y_i)` — x along the driving direction, y across — with
+//! The road is a generic set of asperities ([`Road`], built on an
+//! [`AsperitySet`]): summit `i` (its id is its index) at `(x_i, y_i)` — x along the driving direction, y across — with
 //! height `z_i` (up, towards the tread) and its own [`ContactLaw`]. The tread
 //! ([`Tread`]) is centred at `(x_c, y_c)`; its undeformed surface lies
 //! `s(ξ, η)` above its lowest point, `ξ = x − x_c`, `η = y − y_c`:
@@ -38,7 +38,8 @@
 //! in the x-sorted road, the sub-problem is built and solved
 //! ([`tyreroad_multipoint::solve_from`]), warm started from the previous step
 //! (forces mapped by asperity id, new asperities at 0). The path is split
-//! into contiguous chunks solved in parallel (rayon); each chunk cold-starts.
+//! into contiguous chunks, run one after another or in a rayon pool as the
+//! caller's [`RunOptions::par`] says; each chunk cold-starts.
 //!
 //! # Signals
 //!
@@ -84,6 +85,7 @@
 //! ```
 //! use tyreroad_asperity::Sphere;
 //! use tyreroad_contact_law::{Material, PotentialLaw};
+//! use tyreroad_multipoint::AsperitySet;
 //! use tyreroad_rolling::{roll, Road, RollingConfig, RollingControl, RunOptions, Tread};
 //!
 //! let rubber = Material::new(6.54e6, 0.5)?;
@@ -92,7 +94,7 @@
 //! let positions: Vec<[f64; 2]> = (0..40)
 //!     .map(|i| [(i / 2) as f64 * 0.01, if i % 2 == 0 { -0.005 } else { 0.005 }])
 //!     .collect();
-//! let road = Road::new(positions, vec![0.0; 40], vec![ball; 40])?;
+//! let road = Road::new(AsperitySet::new(positions, vec![0.0; 40], vec![ball; 40])?);
 //! let tyre = Tread::Tyre { radius_x: 0.3, radius_y: 0.3, length: 0.06, width: 0.06 };
 //! let config = RollingConfig::new(tyre, [0.05, 0.15, 1e-3], 10.0, RollingControl::Load(10.0));
 //! let result = roll(&road, rubber, &config, &RunOptions::default())?;
@@ -103,26 +105,31 @@
 //! ```
 
 mod checkpoint;
+mod config;
+mod record;
 mod road;
 mod run;
+mod sensor;
 mod spectrum;
+mod step;
 mod synth;
 mod tread;
 
 pub use checkpoint::input_hash;
+pub use config::{CheckpointOptions, RollingConfig, RollingControl};
+pub use record::{RollingResult, StepRecord};
 pub use road::Road;
-pub use run::{
-    CheckpointOptions, Progress, ProgressFn, RollingConfig, RollingControl, RollingResult,
-    RunOptions, SHARE_RINGS, SHARE_SPOKES, Sensor, StepProblem, StepRecord, roll, step_problem,
-};
+pub use run::{Progress, ProgressFn, RunOptions, roll};
+pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
     third_octave, welch,
 };
-pub use synth::{SphereSummits, SyntheticRoad};
+pub use step::{StepProblem, step_problem};
+pub use synth::SyntheticRoad;
 pub use tread::Tread;
 pub use tyreroad_contact_law::ContactLaw;
-pub use tyreroad_multipoint::SolveError;
+pub use tyreroad_multipoint::{AsperitySet, Par, SolveError};
 
 /// What can go wrong in a rolling run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

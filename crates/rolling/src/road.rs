@@ -1,109 +1,73 @@
 //! A road as a generic set of asperities, indexed by x for window queries.
 
-use tyreroad_contact_law::ContactLaw;
 use tyreroad_multipoint::AsperitySet;
 
-use crate::RollingError;
-
-/// A road surface reduced to asperities: summit positions `(x_i, y_i)`
-/// (x along the driving direction, y across; m), summit heights `z_i` (m, up
-/// towards the tread) and one contact law per asperity.
+/// A road surface reduced to asperities: an [`AsperitySet`] (summit
+/// positions `(x_i, y_i)`, x along the driving direction, y across, m;
+/// summit heights `z_i`, m, up towards the tread; one contact law each)
+/// indexed along x.
 ///
-/// An asperity's id is its index in the vectors given to [`Road::new`];
-/// results and warm starts refer to asperities by id. Internally the
-/// asperities are also sorted by x so that the ones under a footprint are
-/// found by binary search (`O(log N + window)` per step).
+/// An asperity's id is its index in the set given to [`Road::new`]; results
+/// and warm starts refer to asperities by id. The asperities are also sorted
+/// by x so that the ones under a footprint are found by binary search
+/// (`O(log N + window)` per step). (Coincident summits are reported by the
+/// solver when they fall under the same footprint.)
 #[derive(Clone, Debug)]
 pub struct Road<L> {
-    positions: Vec<[f64; 2]>,
-    heights: Vec<f64>,
-    laws: Vec<L>,
+    set: AsperitySet<L>,
     /// Ids sorted by x (ties by id).
     by_x: Vec<usize>,
     /// `positions[by_x[k]][0]`.
     sorted_x: Vec<f64>,
+    /// `set.top()`, read at every step.
     top: f64,
 }
 
-impl<L: ContactLaw> Road<L> {
-    /// A road from summit positions, heights and laws (one per asperity).
-    ///
-    /// Errors: no asperity, lengths that differ, or a coordinate or height
-    /// that is not finite. (Coincident summits are reported by the solver
-    /// when they fall under the same footprint.)
-    pub fn new(
-        positions: Vec<[f64; 2]>,
-        heights: Vec<f64>,
-        laws: Vec<L>,
-    ) -> Result<Self, RollingError> {
-        let n = positions.len();
-        if n == 0 {
-            return Err(RollingError::InvalidInput(
-                "the road has no asperity".into(),
-            ));
-        }
-        if heights.len() != n || laws.len() != n {
-            return Err(RollingError::InvalidInput(format!(
-                "{n} positions but {} heights and {} laws",
-                heights.len(),
-                laws.len()
-            )));
-        }
-        if let Some(i) = (0..n).find(|&i| {
-            !(positions[i][0].is_finite() && positions[i][1].is_finite() && heights[i].is_finite())
-        }) {
-            return Err(RollingError::InvalidInput(format!(
-                "asperity {i}: position {:?} or height {} is not finite",
-                positions[i], heights[i]
-            )));
-        }
-        let mut by_x: Vec<usize> = (0..n).collect();
+impl<L> Road<L> {
+    /// The road on a set of asperities (ids are the set's indices). The set
+    /// is already validated (non-empty, finite), so this cannot fail.
+    pub fn new(set: AsperitySet<L>) -> Self {
+        let positions = set.positions();
+        let mut by_x: Vec<usize> = (0..set.len()).collect();
         by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]).then(a.cmp(&b)));
         let sorted_x = by_x.iter().map(|&i| positions[i][0]).collect();
-        let top = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Ok(Self {
-            positions,
-            heights,
-            laws,
+        let top = set.top();
+        Self {
+            set,
             by_x,
             sorted_x,
             top,
-        })
+        }
     }
-}
 
-impl<L: ContactLaw> Road<L> {
-    /// A road from a set of asperities (ids are the set's indices).
-    pub fn from_set(set: AsperitySet<L>) -> Result<Self, RollingError> {
-        let (positions, heights, laws) = set.into_parts();
-        Self::new(positions, heights, laws)
+    /// The road's asperities.
+    pub fn set(&self) -> &AsperitySet<L> {
+        &self.set
     }
-}
 
-impl<L> Road<L> {
     /// Number of asperities.
     pub fn len(&self) -> usize {
-        self.positions.len()
+        self.set.len()
     }
 
     /// Always false: a road holds at least one asperity.
     pub fn is_empty(&self) -> bool {
-        self.positions.is_empty()
+        self.set.is_empty()
     }
 
     /// Summit positions `(x_i, y_i)` (m), by id.
     pub fn positions(&self) -> &[[f64; 2]] {
-        &self.positions
+        self.set.positions()
     }
 
     /// Summit heights `z_i` (m), by id.
     pub fn heights(&self) -> &[f64] {
-        &self.heights
+        self.set.heights()
     }
 
     /// Contact laws, by id.
     pub fn laws(&self) -> &[L] {
-        &self.laws
+        self.set.laws()
     }
 
     /// The highest summit `z_max` (m): the reference plane of the gaps.
@@ -129,7 +93,7 @@ impl<L> Road<L> {
             self.by_x[lo..hi]
                 .iter()
                 .copied()
-                .filter(|&i| (y0..=y1).contains(&self.positions[i][1])),
+                .filter(|&i| (y0..=y1).contains(&self.set.positions()[i][1])),
         );
     }
 }

@@ -1,10 +1,13 @@
-//! A deterministic synthetic road of random spheres (chipping-like), for
-//! runs and tests while the texture crate is not available.
+//! The synthetic road: a seeded dense-asphalt-like field of spherical
+//! summits, one configuration of the multipoint crate's sphere-summit
+//! generator (`tyreroad_multipoint::layouts`).
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tyreroad_asperity::Sphere;
 use tyreroad_contact_law::{Material, PotentialLaw};
+use tyreroad_multipoint::AsperitySet;
+use tyreroad_multipoint::layouts::{DrawOrder, Heights, Placement, SphereSummitField};
 
 use crate::{Road, RollingError};
 
@@ -57,109 +60,42 @@ impl Default for SyntheticRoad {
     }
 }
 
-/// The generated summits.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SphereSummits {
-    /// Summit positions `(x, y)` (m).
-    pub positions: Vec<[f64; 2]>,
-    /// Summit heights (m).
-    pub heights: Vec<f64>,
-    /// Sphere radii (m).
-    pub radii: Vec<f64>,
-}
-
 impl SyntheticRoad {
-    fn validate(&self) -> Result<(), RollingError> {
-        let pos = |v: f64| v.is_finite() && v > 0.0;
-        let ok = pos(self.length)
-            && pos(self.width)
-            && pos(self.density)
-            && pos(self.min_spacing)
-            && pos(self.radius_min)
-            && self.radius_max.is_finite()
-            && self.radius_max >= self.radius_min
-            && self.height_spread.is_finite()
-            && self.height_spread >= 0.0
-            && self.density * self.length * self.width < 1e8;
-        if ok {
-            Ok(())
-        } else {
-            Err(RollingError::InvalidInput(format!(
-                "synthetic road needs positive sizes, density, spacing and radii, \
-                 radius_max ≥ radius_min, spread ≥ 0 and < 1e8 summits: {self:?}"
-            )))
+    /// The road as a sphere-summit field (radii drawn before heights).
+    pub fn field(&self) -> SphereSummitField {
+        SphereSummitField {
+            placement: Placement::DartThrowing {
+                length: self.length,
+                width: self.width,
+                density: self.density,
+                min_spacing: self.min_spacing,
+            },
+            heights: Heights::MeanOfThree {
+                spread: self.height_spread,
+            },
+            radius_min: self.radius_min,
+            radius_max: self.radius_max,
+            draw_order: DrawOrder::RadiiThenHeights,
         }
     }
 
-    /// The summits.
-    pub fn generate(&self) -> Result<SphereSummits, RollingError> {
-        self.validate()?;
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let target = (self.density * self.length * self.width).round() as usize;
-        let cell = self.min_spacing;
-        let (nx, ny) = (
-            (self.length / cell).ceil() as usize + 1,
-            (self.width / cell).ceil() as usize + 1,
-        );
-        let mut grid: Vec<Vec<usize>> = vec![Vec::new(); nx * ny];
-        let mut positions: Vec<[f64; 2]> = Vec::with_capacity(target);
-        let d2 = self.min_spacing * self.min_spacing;
-        let mut tries = 0;
-        while positions.len() < target && tries < 50 * target {
-            tries += 1;
-            let x = rng.random::<f64>() * self.length;
-            let y = (rng.random::<f64>() - 0.5) * self.width;
-            let (cx, cy) = (
-                (x / cell) as usize,
-                ((y + 0.5 * self.width) / cell) as usize,
-            );
-            let mut free = true;
-            'scan: for gx in cx.saturating_sub(1)..(cx + 2).min(nx) {
-                for gy in cy.saturating_sub(1)..(cy + 2).min(ny) {
-                    for &j in &grid[gx * ny + gy] {
-                        let [px, py] = positions[j];
-                        if (px - x).powi(2) + (py - y).powi(2) < d2 {
-                            free = false;
-                            break 'scan;
-                        }
-                    }
-                }
-            }
-            if free {
-                grid[cx.min(nx - 1) * ny + cy.min(ny - 1)].push(positions.len());
-                positions.push([x, y]);
-            }
-        }
-        let n = positions.len();
-        let radii = (0..n)
-            .map(|_| self.radius_min + rng.random::<f64>() * (self.radius_max - self.radius_min))
-            .collect();
-        let heights = (0..n)
-            .map(|_| {
-                let u: f64 = (0..3).map(|_| rng.random::<f64>()).sum();
-                self.height_spread * u / 3.0
-            })
-            .collect();
-        Ok(SphereSummits {
-            positions,
-            heights,
-            radii,
-        })
-    }
-
-    /// The road: each summit a sphere with the Wilke–Sameur law (paper's
+    /// The summits, each a sphere with the Wilke–Sameur law (paper's
     /// `c = 0.36`, Hertz local rule) on `material`.
+    pub fn generate(
+        &self,
+        material: Material,
+    ) -> Result<AsperitySet<PotentialLaw<Sphere>>, RollingError> {
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        self.field()
+            .generate(material, || rng.random::<f64>())
+            .map_err(|e| RollingError::InvalidInput(format!("synthetic road: {e}")))
+    }
+
+    /// The road of [`Self::generate`]'s summits.
     pub fn sphere_road(
         &self,
         material: Material,
     ) -> Result<Road<PotentialLaw<Sphere>>, RollingError> {
-        let s = self.generate()?;
-        let laws = s
-            .radii
-            .iter()
-            .map(|&r| Sphere::new(r).map(|sp| PotentialLaw::sphere(sp, material)))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| RollingError::InvalidInput(format!("sphere: {e}")))?;
-        Road::new(s.positions, s.heights, laws)
+        Ok(Road::new(self.generate(material)?))
     }
 }

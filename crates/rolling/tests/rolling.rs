@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use tyreroad_asperity::Sphere;
 use tyreroad_contact_law::{Material, PotentialLaw};
-use tyreroad_multipoint::{Control, Problem, SolverOptions, solve};
+use tyreroad_multipoint::{AsperitySet, Control, Par, Problem, SolverOptions, solve};
 use tyreroad_rolling::{
     Band, CheckpointOptions, Progress, Road, RollingConfig, RollingControl, RollingError,
     RollingResult, RunOptions, Sensor, StepRecord, SyntheticRoad, Tread, band_levels, bands_below,
@@ -153,22 +153,44 @@ fn chunking_and_threads_do_not_change_results() -> TestResult {
     )?;
     assert_eq!(reference.steps.len(), 51);
     let mut worst = 0.0_f64;
-    for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()?;
-        for chunks in [1, 4, 7] {
-            let r = pool.install(|| {
-                roll(
-                    &road,
-                    rubber(),
-                    &config,
-                    &RunOptions {
-                        chunks: Some(chunks),
-                        ..RunOptions::default()
-                    },
-                )
-            })?;
+    // Par::Rayon(3) differs from the test pool's thread count, so roll
+    // builds its own pool; the others reuse the current one or none.
+    let pars = [
+        Par::Seq,
+        Par::rayon(1),
+        Par::rayon(2),
+        Par::rayon(3),
+        Par::rayon(0),
+    ];
+    for par in pars {
+        for chunks in [None, Some(1), Some(4), Some(7)] {
+            // The progress callback runs on the workers: it sees their pool
+            // (none under Par::Seq: it stays on the calling thread).
+            let caller = std::thread::current().id();
+            let pool_size = AtomicUsize::new(0);
+            let off_caller = AtomicUsize::new(0);
+            let watch = |_: Progress| {
+                pool_size.store(rayon::current_num_threads(), Ordering::SeqCst);
+                if std::thread::current().id() != caller {
+                    off_caller.fetch_add(1, Ordering::SeqCst);
+                }
+                ControlFlow::Continue(())
+            };
+            let r = roll(
+                &road,
+                rubber(),
+                &config,
+                &RunOptions {
+                    chunks,
+                    par,
+                    progress: Some(&watch),
+                    ..RunOptions::default()
+                },
+            )?;
+            match par {
+                Par::Seq => assert_eq!(off_caller.load(Ordering::SeqCst), 0),
+                Par::Rayon(n) => assert_eq!(pool_size.load(Ordering::SeqCst), n.get()),
+            }
             assert_same(&reference, &r, 1e-9);
             worst = worst.max(max_rel_diff(&reference, &r, |s| s.approach));
         }
@@ -226,7 +248,7 @@ fn periodic_road_gives_lines_at_v_over_l() -> TestResult {
         }
     }
     let n = positions.len();
-    let road = Road::new(positions, vec![0.0; n], vec![ball; n])?;
+    let road = Road::new(AsperitySet::new(positions, vec![0.0; n], vec![ball; n])?);
     let tread = Tread::Tyre {
         radius_x: 0.3,
         radius_y: 0.3,
@@ -311,6 +333,7 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
             chunks: Some(3),
             checkpoint: Some(&ck),
             progress: Some(&abort),
+            ..RunOptions::default()
         },
     );
     let Err(RollingError::Interrupted { done, .. }) = first else {
@@ -340,6 +363,7 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
             chunks: Some(3),
             checkpoint: Some(&ck),
             progress: Some(&count),
+            ..RunOptions::default()
         },
     )?;
     assert_eq!(resumed.resumed, done);
@@ -358,6 +382,7 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
                 interval: Duration::from_secs(1),
             }),
             progress: None,
+            par: Par::rayon(2),
         },
     )?;
     assert_eq!(other.resumed, done);
@@ -458,22 +483,27 @@ fn bad_input_is_an_error_not_a_panic() {
     // Displacement control off the road: zero force.
     c.control = RollingControl::Approach(1e-3);
     assert!(roll(&road, m, &c, &o).is_ok_and(|r| r.steps[0].total_force == 0.0));
-    assert!(Road::<Law>::new(vec![], vec![], vec![]).is_err());
+    assert!(AsperitySet::<Law>::new(vec![], vec![], vec![]).is_err());
 }
 
 #[test]
 fn synthetic_road_is_deterministic_and_spaced() -> TestResult {
     let spec = SyntheticRoad::default();
-    let a = spec.generate()?;
-    let b = spec.generate()?;
-    assert_eq!(a, b);
-    let n = a.positions.len();
+    let a = spec.generate(rubber())?;
+    let b = spec.generate(rubber())?;
+    let radii = |set: &AsperitySet<Law>| -> Vec<f64> {
+        set.laws().iter().map(|l| l.geometry().radius()).collect()
+    };
+    assert_eq!(a.positions(), b.positions());
+    assert_eq!(a.heights(), b.heights());
+    assert_eq!(radii(&a), radii(&b));
+    let n = a.len();
     println!("default synthetic road: {n} summits");
     assert!(n > 6000, "{n}");
-    assert!(a.radii.iter().all(|r| (2e-3..=5e-3).contains(r)));
-    assert!(a.heights.iter().all(|z| (0.0..=2e-3).contains(z)));
+    assert!(radii(&a).iter().all(|r| (2e-3..=5e-3).contains(r)));
+    assert!(a.heights().iter().all(|z| (0.0..=2e-3).contains(z)));
     // Minimum spacing, checked by sorting on x.
-    let mut p = a.positions.clone();
+    let mut p = a.positions().to_vec();
     p.sort_by(|u, v| u[0].total_cmp(&v[0]));
     for i in 0..n {
         for j in i + 1..n {

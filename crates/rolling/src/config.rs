@@ -1,0 +1,158 @@
+//! What defines a rolling run's results: the tread, the path, the control,
+//! the sensors and the solver tolerance; and where its checkpoints go.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::{RollingError, Sensor, Tread};
+
+/// What is imposed on the tread at every step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RollingControl {
+    /// Load control: the wheel load `W = Σ P_i` (N); the approach is an
+    /// output.
+    Load(f64),
+    /// Displacement control at a fixed axle height, given as the approach
+    /// `δ0` (m) of the tread's lowest point below the road's highest summit
+    /// ([`Road::top`](crate::Road::top)); the total force is an output.
+    Approach(f64),
+    /// Displacement control at a fixed axle height, given as the height `h`
+    /// (m) of the tread's lowest point above the road datum `z = 0`:
+    /// `δ0 = z_max − h`.
+    TreadHeight(f64),
+}
+
+/// Everything that defines a rolling run's results. Two runs with equal
+/// configurations (and equal roads and material) give the same results to
+/// the solver tolerance whatever the chunking and thread count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RollingConfig {
+    /// The tread's shape.
+    pub tread: Tread,
+    /// Lateral position `y_c` of the footprint centre (m).
+    pub lateral: f64,
+    /// First footprint centre `x_c` (m).
+    pub start: f64,
+    /// Last footprint centre (m): steps run `x_k = start + k Δx` while
+    /// `x_k ≤ end` (to `10⁻⁹ Δx`).
+    pub end: f64,
+    /// Space step `Δx` (m, > 0).
+    pub step: f64,
+    /// Driving speed `V` (m/s, > 0): `t = x / V`.
+    pub speed: f64,
+    /// What is imposed at each step.
+    pub control: RollingControl,
+    /// Selection margin (m) added around a tyre's footprint on every side.
+    pub margin: f64,
+    /// Virtual force sensors.
+    pub sensors: Vec<Sensor>,
+    /// Solver tolerance, relative to the force scale. Tight (default `1e-12`)
+    /// so that a step's solution does not depend on its starting point.
+    pub tolerance: f64,
+    /// Newton iterations allowed per step (and load step).
+    pub max_iterations: usize,
+}
+
+impl RollingConfig {
+    /// A configuration with no sensor, no margin, tolerance `1e-12` and 60
+    /// iterations.
+    pub fn new(
+        tread: Tread,
+        [start, end, step]: [f64; 3],
+        speed: f64,
+        control: RollingControl,
+    ) -> Self {
+        Self {
+            tread,
+            lateral: 0.0,
+            start,
+            end,
+            step,
+            speed,
+            control,
+            margin: 0.0,
+            sensors: Vec::new(),
+            tolerance: 1e-12,
+            max_iterations: 60,
+        }
+    }
+
+    /// Checks the configuration.
+    pub fn validate(&self) -> Result<(), RollingError> {
+        self.tread.validate()?;
+        let bad = |what: &str, v: f64| Err(RollingError::InvalidInput(format!("{what}: got {v}")));
+        for (what, v) in [
+            ("lateral", self.lateral),
+            ("start", self.start),
+            ("end", self.end),
+        ] {
+            if !v.is_finite() {
+                return bad(&format!("path {what} must be finite"), v);
+            }
+        }
+        if !(self.step.is_finite() && self.step > 0.0) {
+            return bad("step must be finite and > 0 m", self.step);
+        }
+        if self.end < self.start {
+            return bad("path end must not precede start", self.end);
+        }
+        if !(self.speed.is_finite() && self.speed > 0.0) {
+            return bad("speed must be finite and > 0 m/s", self.speed);
+        }
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return bad("margin must be finite and ≥ 0 m", self.margin);
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) || self.max_iterations == 0 {
+            return bad(
+                "tolerance must be > 0 and max_iterations ≥ 1",
+                self.tolerance,
+            );
+        }
+        match self.control {
+            RollingControl::Load(w) if !(w.is_finite() && w >= 0.0) => {
+                return bad("wheel load must be finite and ≥ 0 N", w);
+            }
+            RollingControl::Approach(d) | RollingControl::TreadHeight(d) if !d.is_finite() => {
+                return bad("imposed approach or height must be finite", d);
+            }
+            _ => {}
+        }
+        for s in &self.sensors {
+            let ok = s.x.iter().chain(&s.y).all(|v| v.is_finite())
+                && s.x[0] <= s.x[1]
+                && s.y[0] <= s.y[1];
+            if !ok {
+                return Err(RollingError::InvalidInput(format!(
+                    "sensor {:?}: needs finite x0 ≤ x1 and y0 ≤ y1, got x {:?}, y {:?}",
+                    s.name, s.x, s.y
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of steps on the path.
+    pub fn steps(&self) -> usize {
+        ((self.end - self.start) / self.step + 1e-9).floor() as usize + 1
+    }
+
+    /// Footprint centre `x_k = start + k Δx` of step `k` (m).
+    pub fn position(&self, k: usize) -> f64 {
+        self.start + k as f64 * self.step
+    }
+
+    /// Sampling rate `V / Δx` (Hz) of the time signals.
+    pub fn sample_rate(&self) -> f64 {
+        self.speed / self.step
+    }
+}
+
+/// Where and how often to checkpoint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckpointOptions {
+    /// Directory of the checkpoint files (created when missing).
+    pub dir: PathBuf,
+    /// Each chunk rewrites its file at most this often (and always at its
+    /// end, on an error or on an interruption). `Duration::ZERO`: every step.
+    pub interval: Duration,
+}

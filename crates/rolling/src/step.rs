@@ -1,0 +1,213 @@
+//! One step of the path: the footprint's asperities selected by an
+//! x-window, the sub-problem's gaps, and its solve warm-started from the
+//! previous step's state ([`Carry`]).
+
+use tyreroad_contact_law::{ContactLaw, Material};
+use tyreroad_multipoint::{
+    Boussinesq, Control, Par, Problem, Solution, SolverOptions, overlapping_contacts, solve_from,
+};
+
+use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, Tread};
+
+/// The selected asperity ids and the multipoint problem on them.
+pub type StepProblem<'r, L> = (Vec<usize>, Problem<&'r L>);
+
+/// The sub-problem of one footprint position: the selected asperity ids and
+/// the multipoint problem on them (gaps `H_i = z_max − z_i + s(x_i − x_c,
+/// y_i − y_c)`). `None` when nothing lies under the footprint.
+pub fn step_problem<'r, L: ContactLaw>(
+    road: &'r Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    position: f64,
+) -> Result<Option<StepProblem<'r, L>>, RollingError> {
+    let mut ids = Vec::new();
+    select(road, config, position, &mut ids);
+    if ids.is_empty() {
+        return Ok(None);
+    }
+    let problem = build(road, material, config, position, &ids)?;
+    Ok(Some((ids, problem)))
+}
+
+pub(crate) fn select<L>(road: &Road<L>, config: &RollingConfig, xc: f64, ids: &mut Vec<usize>) {
+    let (hx, hy) = config.tread.half_extents();
+    let m = config.tread.effective_margin(config.margin);
+    let yc = config.lateral;
+    road.window([xc - hx - m, xc + hx + m], [yc - hy - m, yc + hy + m], ids);
+    if matches!(config.tread, Tread::Block { .. }) {
+        let pos = road.positions();
+        ids.retain(|&i| {
+            config
+                .tread
+                .profile(pos[i][0] - xc, pos[i][1] - yc)
+                .is_some()
+        });
+    }
+}
+
+pub(crate) fn build<'r, L: ContactLaw>(
+    road: &'r Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    xc: f64,
+    ids: &[usize],
+) -> Result<Problem<&'r L>, RollingError> {
+    let (pos, z, laws, top) = (road.positions(), road.heights(), road.laws(), road.top());
+    let yc = config.lateral;
+    let positions = ids.iter().map(|&i| pos[i]).collect();
+    let gaps = ids
+        .iter()
+        .map(|&i| {
+            top - z[i]
+                + config
+                    .tread
+                    .profile(pos[i][0] - xc, pos[i][1] - yc)
+                    .unwrap_or(f64::INFINITY)
+        })
+        .collect();
+    let laws = ids.iter().map(|&i| &laws[i]).collect();
+    Problem::new(positions, gaps, laws, material).map_err(|source| RollingError::Solve {
+        position: xc,
+        source,
+    })
+}
+
+pub(crate) fn imposed<L>(road: &Road<L>, control: RollingControl) -> Control {
+    match control {
+        RollingControl::Load(w) => Control::Load(w),
+        RollingControl::Approach(d) => Control::Approach(d),
+        RollingControl::TreadHeight(h) => Control::Approach(road.top() - h),
+    }
+}
+
+/// The state carried from one step to the next (warm start): forces by
+/// asperity id (ids absent carry zero) and the approach.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Carry {
+    pub ids: Vec<usize>,
+    pub forces: Vec<f64>,
+    pub approach: f64,
+}
+
+/// Per-chunk scratch: a dense id → force map for warm-start mapping.
+pub(crate) struct Scratch {
+    pub(crate) dense: Vec<f64>,
+    pub(crate) ids: Vec<usize>,
+}
+
+pub(crate) fn solve_step<L: ContactLaw + Sync>(
+    road: &Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    k: usize,
+    carry: &mut Option<Carry>,
+    scratch: &mut Scratch,
+) -> Result<StepRecord, RollingError> {
+    let xc = config.position(k);
+    let control = imposed(road, config.control);
+    let margin = config.tread.effective_margin(config.margin);
+    let boundary = config.tread.boundary_profile(margin);
+    select(road, config, xc, &mut scratch.ids);
+    let empty = |approach: f64| StepRecord {
+        index: k,
+        position: xc,
+        time: xc / config.speed,
+        total_force: 0.0,
+        approach,
+        contact_area: 0.0,
+        contacts: 0,
+        selected: 0,
+        iterations: 0,
+        clearance: boundary - approach,
+        overlapping: 0,
+        sensor_forces: vec![0.0; config.sensors.len()],
+    };
+    if scratch.ids.is_empty() {
+        *carry = None;
+        return match control {
+            Control::Approach(d) => Ok(empty(d)),
+            // No load and no asperity: the approach is undefined (−∞).
+            Control::Load(0.0) => Ok(empty(f64::NEG_INFINITY)),
+            Control::Load(_) => Err(RollingError::NoSupport { position: xc }),
+        };
+    }
+    let ids = std::mem::take(&mut scratch.ids);
+    let problem = build(road, material, config, xc, &ids)?;
+    // Warm start: previous forces mapped by asperity id, new ones at 0.
+    let initial = carry.as_ref().map(|c| {
+        for (&i, &p) in c.ids.iter().zip(&c.forces) {
+            scratch.dense[i] = p;
+        }
+        let forces: Vec<f64> = ids.iter().map(|&i| scratch.dense[i]).collect();
+        for &i in &c.ids {
+            scratch.dense[i] = 0.0;
+        }
+        // Consistent local interpenetrations δ_i = δ0 − H_i − (T P)_i of the
+        // mapped state (the solver may iterate on them).
+        let mut u = vec![0.0; forces.len()];
+        Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
+            &forces,
+            &mut u,
+            Par::Seq,
+        );
+        let depths = problem
+            .gaps()
+            .iter()
+            .zip(&u)
+            .map(|(h, u)| c.approach - h - u)
+            .collect();
+        Solution {
+            depths,
+            forces,
+            approach: c.approach,
+            iterations: 0,
+            load_steps: 0,
+            residual: 0.0,
+        }
+    });
+    let options = SolverOptions {
+        tolerance: config.tolerance,
+        max_iterations: config.max_iterations,
+        par: Par::Seq,
+        ..SolverOptions::default()
+    };
+    let solution = solve_from(&problem, control, &options, initial.as_ref()).map_err(|source| {
+        RollingError::Solve {
+            position: xc,
+            source,
+        }
+    })?;
+    let contacts = solution.local_contacts(&problem);
+    let pos = road.positions();
+    let mut sensor_forces = vec![0.0; config.sensors.len()];
+    let mut area = 0.0;
+    for (a, (&i, &p)) in ids.iter().zip(&solution.forces).enumerate() {
+        if p > 0.0 {
+            area += contacts[a].area();
+            for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
+                *f += s.share(pos[i], &contacts[a]);
+            }
+        }
+    }
+    let record = StepRecord {
+        index: k,
+        position: xc,
+        time: xc / config.speed,
+        total_force: solution.total_force(),
+        approach: solution.approach,
+        contact_area: area,
+        contacts: solution.contact_count(),
+        selected: ids.len(),
+        iterations: solution.iterations,
+        clearance: boundary - solution.approach,
+        overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
+        sensor_forces,
+    };
+    *carry = Some(Carry {
+        ids,
+        forces: solution.forces,
+        approach: solution.approach,
+    });
+    Ok(record)
+}
