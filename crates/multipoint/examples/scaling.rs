@@ -17,6 +17,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tyreroad_asperity::Sphere;
 use tyreroad_contact_law::{Material, PotentialLaw};
+use tyreroad_multipoint::layouts::{Placement, SphereSummitField};
 use tyreroad_multipoint::{
     Boussinesq, Control, FastBoussinesq, FastOptions, LinearSolver, Par, Problem, SolverOptions,
     layouts, solve,
@@ -32,18 +33,17 @@ fn rubber() -> Material {
 /// spacing, radii 1–5 mm, heights spread over 0.5 mm.
 fn random_field(n: usize, seed: u64) -> Problem<Law> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let side = 3e-3 * (n as f64).sqrt();
-    let positions = (0..n)
-        .map(|_| [rng.random::<f64>() * side, rng.random::<f64>() * side])
-        .collect();
-    let heights: Vec<f64> = (0..n).map(|_| rng.random::<f64>() * 5e-4).collect();
-    let laws = (0..n)
-        .map(|_| {
-            let r = 1e-3 + 4e-3 * rng.random::<f64>();
-            PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber())
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).expect("problem")
+    let field = SphereSummitField {
+        placement: Placement::Scattered {
+            count: n,
+            side: 3e-3 * (n as f64).sqrt(),
+        },
+        ..SphereSummitField::road_like(n)
+    };
+    let set = field
+        .generate(rubber(), || rng.random::<f64>())
+        .expect("field");
+    Problem::from_set(set, rubber()).expect("problem")
 }
 
 /// As [`random_field`] but with the summits on a 3 mm grid jittered by

@@ -28,6 +28,15 @@ pub enum Placement {
         /// Grid pitch (m).
         pitch: f64,
     },
+    /// `count` summits scattered uniformly over the square `[0, side)²` (two
+    /// draws a summit, x first). Nothing keeps them apart: two summits may
+    /// fall microns apart, where the point-force coupling swamps the laws.
+    Scattered {
+        /// Number of summits.
+        count: usize,
+        /// Side of the square (m).
+        side: f64,
+    },
     /// Random sequential addition (dart throwing) on `x ∈ [0, length)`,
     /// `y ∈ [−width/2, width/2)`: a candidate (two draws, x first) is kept
     /// when no kept summit lies closer than `min_spacing`, until
@@ -112,6 +121,7 @@ impl SphereSummitField {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         let placement_ok = match self.placement {
             Placement::JitteredGrid { count, pitch } => count >= 1 && positive(pitch),
+            Placement::Scattered { count, side } => count >= 1 && positive(side),
             Placement::DartThrowing {
                 length,
                 width,
@@ -159,6 +169,9 @@ impl SphereSummitField {
         self.validate()?;
         let positions = match self.placement {
             Placement::JitteredGrid { count, pitch } => jittered_grid(count, pitch, &mut uniform),
+            Placement::Scattered { count, side } => (0..count)
+                .map(|_| [uniform() * side, uniform() * side])
+                .collect(),
             Placement::DartThrowing {
                 length,
                 width,

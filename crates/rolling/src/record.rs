@@ -30,7 +30,8 @@ pub struct StepRecord {
     /// spacing), where the model's point-force coupling does not hold
     /// (`tyreroad_multipoint::overlapping_contacts`).
     pub overlapping: usize,
-    /// Force on each sensor (N), in the order of [`RollingConfig::sensors`].
+    /// Force on each sensor (N), in the order of
+    /// [`RollingConfig::sensors`](crate::RollingConfig::sensors).
     pub sensor_forces: Vec<f64>,
 }
 

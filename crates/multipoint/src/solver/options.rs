@@ -61,9 +61,9 @@ pub struct SolverOptions {
     pub krylov_min_active: usize,
     /// The number of asperities from which the Krylov path computes every
     /// interaction product `T·x` with the fast multipole operator
-    /// ([`FastBoussinesq`]) instead of the exact `O(N · nnz)` sum: residuals
-    /// at [`Self::fast_operator`] accuracy, Krylov products at a lower
-    /// order. Never used by the dense path. Default 1500 (from there the
+    /// ([`FastBoussinesq`](crate::FastBoussinesq)) instead of the exact
+    /// `O(N · nnz)` sum: residuals at [`Self::fast_operator`] accuracy,
+    /// Krylov products at a lower order. Never used by the dense path. Default 1500 (from there the
     /// fast products are 5–10× cheaper; forces stay within ~1e-8 of the
     /// exact kernel's). `usize::MAX` disables it.
     pub fast_operator_min_n: usize,
