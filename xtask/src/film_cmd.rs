@@ -201,11 +201,11 @@ pub fn run(args: &FilmArgs) -> Result<()> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scan".into());
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let csv_path = args.out.join(format!("{stem}-prints.csv"));
-    let png_path = args.out.join(format!("{stem}-annotated.png"));
-    write_all_or_nothing(&[(&csv_path, csv.as_bytes()), (&png_path, &png)])?;
+    // Both files land together or not at all.
+    let mut set = tyreroad::scenario::output::OutputSet::new(&args.out)?;
+    set.write(&format!("{stem}-prints.csv"), csv.as_bytes())?;
+    set.write(&format!("{stem}-annotated.png"), &png)?;
+    let written = set.commit()?;
 
     println!(
         "{}: {} prints ({} matched, {} stray), threshold grey {:.4}, background {:.4}, pixel {:.3e} m",
@@ -234,38 +234,8 @@ pub fn run(args: &FilmArgs) -> Result<()> {
             100.0 * t.radius.std_abs
         );
     }
-    println!("wrote {} and {}", csv_path.display(), png_path.display());
-    Ok(())
-}
-
-/// Writes every file to a temporary sibling, then renames them all: on any
-/// failure the temporaries are removed and no destination is touched by a
-/// partial write.
-fn write_all_or_nothing(files: &[(&PathBuf, &[u8])]) -> Result<()> {
-    let tmp: Vec<PathBuf> = files
-        .iter()
-        .map(|(p, _)| {
-            let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-            name.push(format!(".tmp-{}", std::process::id()));
-            p.with_file_name(name)
-        })
-        .collect();
-    let cleanup = |tmp: &[PathBuf]| {
-        for t in tmp {
-            let _ = std::fs::remove_file(t);
-        }
-    };
-    for ((_, data), t) in files.iter().zip(&tmp) {
-        if let Err(e) = std::fs::write(t, data) {
-            cleanup(&tmp);
-            return Err(e).with_context(|| format!("writing {}", t.display()));
-        }
-    }
-    for ((p, _), t) in files.iter().zip(&tmp) {
-        if let Err(e) = std::fs::rename(t, p) {
-            cleanup(&tmp);
-            return Err(e).with_context(|| format!("renaming {} to {}", t.display(), p.display()));
-        }
+    for w in &written {
+        println!("wrote {}", w.display());
     }
     Ok(())
 }
