@@ -173,6 +173,27 @@ pub mod fmt {
         s.collect_str(&format_args!("{v:.6e}"))
     }
 
+    /// Fixed, 6 decimals.
+    pub fn fixed6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.6}"))
+    }
+
+    /// Scientific with 6 decimals, or an empty field.
+    pub fn opt_sci6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => sci6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
+    /// Fixed with 6 decimals, or an empty field.
+    pub fn opt_fixed6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => fixed6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
     /// Scientific, 9 decimals.
     pub fn sci9<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(&format_args!("{v:.9e}"))
