@@ -357,6 +357,22 @@ pub fn height_map_npz(map: &tyreroad_texture::HeightMap) -> Result<Vec<u8>, Scen
         .finish()
 }
 
+/// The asperities of a rolled road as `.npz`: `ids` (the road's indices,
+/// `uint64`, shape `(n,)`), `positions` (m, shape `(n, 2)`: `x`, `y`) and
+/// `heights` (m, shape `(n,)`).
+///
+/// # Errors
+/// As [`NpzBuilder`].
+pub fn road_npz(positions: &[[f64; 2]], heights: &[f64]) -> Result<Vec<u8>, ScenarioError> {
+    let ids: Vec<u64> = (0..positions.len() as u64).collect();
+    let flat: Vec<f64> = positions.iter().flatten().copied().collect();
+    NpzBuilder::new()
+        .array("ids", &[ids.len()], &ids)?
+        .array("positions", &[positions.len(), 2], &flat)?
+        .array("heights", &[heights.len()], heights)?
+        .finish()
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {

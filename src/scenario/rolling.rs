@@ -68,6 +68,11 @@ impl Spectra {
 pub struct RollingRun {
     /// The road rolled on.
     pub road: RoadSummary,
+    /// Summit positions `(x, y)` (m) of the road's asperities, in the
+    /// road's index order (the ids of the rolling crate).
+    pub road_positions: Vec<[f64; 2]>,
+    /// Summit heights (m), same order.
+    pub road_heights: Vec<f64>,
     /// The configuration the spec described.
     pub config: rolling::RollingConfig,
     /// One record per step.
@@ -180,6 +185,8 @@ fn roll_road<L: ContactLaw + Sync>(
     let spectra = spectra(&config, spec, &result)?;
     Ok(RollingRun {
         road: summary,
+        road_positions: road.positions().to_vec(),
+        road_heights: road.heights().to_vec(),
         config,
         result,
         spectra,

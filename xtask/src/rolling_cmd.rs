@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
-use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt};
+use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz};
 use tyreroad::scenario::{RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult};
 use tyreroad_rolling as rolling;
 
@@ -17,7 +17,8 @@ use crate::charts::{Series, line_chart};
 /// a killed run resumes from `out/checkpoint/`. Writes into `out`:
 /// `time_signals.csv`, `third_octave.csv` (`band_centre_hz,level_db`),
 /// `third_octave_bands.csv` (exact centres and sensor levels), `sensors.csv`
-/// (when sensors are defined) and SVG/PNG charts.
+/// (when sensors are defined), `road.npz` (the road's asperities: `ids`,
+/// `positions` `(n, 2)`, `heights`) and SVG/PNG charts.
 pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<()> {
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
@@ -159,6 +160,10 @@ struct SensorRow {
 
 fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
     let (config, result, spectra) = (&run.config, &run.result, &run.spectra);
+    set.write(
+        "road.npz",
+        &road_npz(&run.road_positions, &run.road_heights)?,
+    )?;
     let ts: Vec<TimeSignalRow> = result
         .steps
         .iter()
@@ -371,6 +376,7 @@ mod tests {
         let bands = std::fs::read_to_string(out.join("third_octave_bands.csv"))?;
         assert!(bands.starts_with("band_centre_hz,exact_centre_hz,centre_db\n"));
         for f in [
+            "road.npz",
             "sensors.csv",
             "time_signals.svg",
             "contact_area.svg",
