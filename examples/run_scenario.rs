@@ -34,7 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         ScenarioResult::Rolling(r) => {
             let peak = r.result.total_force().into_iter().fold(0.0, f64::max);
-            println!("{} steps, peak total force {peak:.1} N", r.result.steps.len());
+            println!(
+                "{} steps, peak total force {peak:.1} N",
+                r.result.steps.len()
+            );
         }
     }
     Ok(())
