@@ -34,16 +34,12 @@ fn compare(name: &str, map: &HeightMap, loads: &[f64], deep: bool) -> Res<()> {
     };
     let road = texture_road(map, m, &options)?;
     let n = road.len();
-    let summit_top = road
-        .heights
-        .iter()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max);
+    let summit_top = road.set.top();
     let seg = &road.segmentation;
     let index = road.asperity_index.clone();
     // Each asperity's own surface, for the two-scale contact areas.
     let shapes = road.local_shapes(&Arc::new(map.clone()))?;
-    let problem = Problem::from_heights(road.positions, &road.heights, road.laws, m)?;
+    let problem = Problem::from_set(road.set, m)?;
 
     // Labels for the BEM: segmentation index → multipoint index; missing
     // points and dropped asperities → the spare label n.

@@ -6,7 +6,7 @@
 //! ([`crate::texture::asperity_cap`], smooth at contact onset) and get the
 //! interaction-potential law with the half-section local rule
 //! ([`crate::contact_law::PotentialLaw`], `LocalRule::HalfSection`). The
-//! result feeds [`crate::multipoint::Problem::from_heights`] for a static
+//! result, an [`AsperitySet`], feeds [`crate::multipoint::Problem::from_set`] for a static
 //! contact, or a rolling road.
 //!
 //! The way back, for the two-scale pressure map ([`crate::two_scale`]):
@@ -29,6 +29,7 @@ use std::sync::Arc;
 
 use crate::asperity::{CapGeometry, TabulatedCap};
 use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
+use crate::multipoint::AsperitySet;
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
     asperity_cap, segment,
@@ -109,13 +110,9 @@ impl TextureRoadOptions {
 /// A texture ready for the multipoint model.
 #[derive(Debug)]
 pub struct TextureRoad {
-    /// Summit positions `(x, y)` (m) in the map's frame (cell `(i, j)` at
-    /// `(i·dx, j·dy)`), one per kept asperity.
-    pub positions: Vec<[f64; 2]>,
-    /// Summit heights (m).
-    pub heights: Vec<f64>,
-    /// Contact laws.
-    pub laws: Vec<TextureLaw>,
+    /// The kept asperities: summit positions `(x, y)` (m) in the map's frame
+    /// (cell `(i, j)` at `(i·dx, j·dy)`), summit heights (m) and laws.
+    pub set: AsperitySet<TextureLaw>,
     /// The segmentation of the height map.
     pub segmentation: Segmentation,
     /// For each kept asperity, its index in `segmentation.asperities()`.
@@ -156,14 +153,10 @@ pub fn texture_road(
         },
     )?;
     let n = seg.asperities().len();
-    let mut road = TextureRoad {
-        positions: Vec::with_capacity(n),
-        heights: Vec::with_capacity(n),
-        laws: Vec::with_capacity(n),
-        segmentation: seg,
-        asperity_index: Vec::with_capacity(n),
-    };
-    let seg = &road.segmentation;
+    let mut positions = Vec::with_capacity(n);
+    let mut heights = Vec::with_capacity(n);
+    let mut laws = Vec::with_capacity(n);
+    let mut asperity_index = Vec::with_capacity(n);
     for (k, a) in seg.asperities().iter().enumerate() {
         let max_depth = match opts.depth {
             CapDepth::BasinBottom => basin_depth(map, a),
@@ -175,7 +168,7 @@ pub fn texture_road(
             max_depth,
         };
         // An asperity without a depth range is dropped (module invariants).
-        let Ok(table) = asperity_cap(map, seg, k, &cap) else {
+        let Ok(table) = asperity_cap(map, &seg, k, &cap) else {
             continue;
         };
         let law = PotentialLaw::new(
@@ -185,15 +178,21 @@ pub fn texture_road(
             LocalRule::HalfSection,
         )
         .map_err(|source| TextureRoadError::Law { index: k, source })?;
-        road.positions.push(a.summit);
-        road.heights.push(a.summit_height);
-        road.laws.push(law);
-        road.asperity_index.push(k);
+        positions.push(a.summit);
+        heights.push(a.summit_height);
+        laws.push(law);
+        asperity_index.push(k);
     }
-    if road.laws.is_empty() {
+    if laws.is_empty() {
         return Err(TextureRoadError::NoAsperity { segmented: n });
     }
-    Ok(road)
+    let set = AsperitySet::new(positions, heights, laws)
+        .map_err(|e| TextureRoadError::InvalidInput(e.to_string()))?;
+    Ok(TextureRoad {
+        set,
+        segmentation: seg,
+        asperity_index,
+    })
 }
 
 /// Summit height minus the lowest valid point of the basin, if positive.
@@ -211,12 +210,12 @@ fn basin_depth(map: &HeightMap, a: &Asperity) -> Option<f64> {
 impl TextureRoad {
     /// Number of kept asperities.
     pub fn len(&self) -> usize {
-        self.laws.len()
+        self.set.len()
     }
 
     /// Never true: [`texture_road`] refuses a texture without asperities.
     pub fn is_empty(&self) -> bool {
-        self.laws.is_empty()
+        self.set.is_empty()
     }
 
     /// The real shape of every kept asperity for [`crate::two_scale`]: the
@@ -244,7 +243,7 @@ impl TextureRoad {
         let shapes = self
             .asperity_index
             .iter()
-            .zip(&self.laws)
+            .zip(self.set.laws())
             .map(|(&k, law)| {
                 let a = &self.segmentation.asperities()[k];
                 let floor = -basin_depth(map, a).unwrap_or(0.0);
@@ -363,13 +362,12 @@ mod tests {
         assert_eq!(road.len(), 4);
         // Highest first, each within one cell of its ball's summit.
         for (k, [cx, cy, top]) in centres.iter().enumerate() {
-            let p = road.positions[k];
+            let p = road.set.positions()[k];
             assert!((p[0] - cx).abs() < 1e-4, "{k}: {p:?}");
             assert!((p[1] - cy).abs() < 1e-4, "{k}: {p:?}");
-            assert!((road.heights[k] - top).abs() < 1e-5, "{k}");
+            assert!((road.set.heights()[k] - top).abs() < 1e-5, "{k}");
         }
-        let problem =
-            Problem::from_heights(road.positions, &road.heights, road.laws, material).unwrap();
+        let problem = Problem::from_set(road.set, material).unwrap();
         let load = 50.0;
         let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
         assert!((s.total_force() - load).abs() < 1e-6 * load);
@@ -390,7 +388,7 @@ mod tests {
             let re = shape.equivalent_radius();
             assert!((re - r).abs() < 0.02 * r, "{k}: R = {re}");
             let [cx, cy, top] = centres[k];
-            let [sx, sy] = road.positions[k];
+            let [sx, sy] = road.set.positions()[k];
             // On the ball, 1–3 mm from its centre: the sphere to the
             // interpolation error of a 0.1 mm grid (≈ h²/8R ≈ 0.3 µm) and
             // the summit offset (< 1 cell).
@@ -399,7 +397,7 @@ mod tests {
                 let exact = (r * r - ox * ox - oy * oy).sqrt() - r;
                 let h = shape.height(x - sx, y - sy);
                 assert!(
-                    (h - (exact + top - road.heights[k])).abs() < 2e-6,
+                    (h - (exact + top - road.set.heights()[k])).abs() < 2e-6,
                     "{k}: h = {h}, sphere {exact}"
                 );
             }

@@ -7,7 +7,7 @@
 //! a relative residual of 5.2e-11 whatever the tolerance.
 
 use tyreroad::contact_law::{ContactLaw, Material};
-use tyreroad::multipoint::{AsperitySet, Control, SolverOptions, solve};
+use tyreroad::multipoint::{Control, SolverOptions, solve};
 use tyreroad::rolling::{Road, RollingConfig, RollingControl, Tread, step_problem};
 use tyreroad::texture::{Aggregate, aggregate};
 use tyreroad::texture_road::{TextureRoadOptions, texture_road};
@@ -23,12 +23,7 @@ fn dense_asphalt_step_with_contacts_on_law_kinks_converges_tightly() -> TestResu
     let map = aggregate(&synth)?;
     let road = texture_road(&map, material, &TextureRoadOptions::new(0.1e-3, 1e-6))?;
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let positions = road
-        .positions
-        .iter()
-        .map(|&[x, y]| [x, y - y_mid])
-        .collect();
-    let road = Road::new(AsperitySet::new(positions, road.heights, road.laws)?);
+    let road = Road::new(road.set.translated([0.0, -y_mid])?);
     let tread = Tread::Tyre {
         radius_x: 0.3,
         radius_y: 0.5,

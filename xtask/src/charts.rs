@@ -1,15 +1,13 @@
-//! Charts as SVG and PNG (plotters), written atomically. Text is set in
-//! DejaVu Sans, embedded (the `dejavu` crate), so PNG charts need no system
-//! fonts.
+//! Charts as SVG and PNG (plotters), staged in an output set. Text is set
+//! in DejaVu Sans, embedded (the `dejavu` crate), so PNG charts need no
+//! system fonts; the pressure maps (`pressure_image`) use the same font.
 
-use std::path::Path;
 use std::sync::OnceLock;
 
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-use crate::output::write_atomic;
+use tyreroad::scenario::output::OutputSet;
 
 /// Distinguishable line colours (Okabe–Ito), in series order.
 const COLOURS: [RGBColor; 6] = [
@@ -33,7 +31,7 @@ pub struct Series {
 const SIZE: (u32, u32) = (900, 520);
 
 /// Registers the embedded font under the family name the charts use, once.
-fn register_font() -> Result<()> {
+pub fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
@@ -47,10 +45,11 @@ fn register_font() -> Result<()> {
 }
 
 /// A line-and-marker chart of several series, like the paper's figures 3
-/// and 4 (a quantity per indenter, one series per load): written as SVG to
-/// `path` and as PNG next to it (same name, `.png`).
+/// and 4 (a quantity per indenter, one series per load): staged as SVG
+/// `NAME.svg` and PNG `NAME.png`.
 pub fn line_chart(
-    path: &Path,
+    set: &mut OutputSet,
+    name: &str,
     title: &str,
     x_label: &str,
     y_label: &str,
@@ -79,8 +78,9 @@ pub fn line_chart(
     image
         .write_to(&mut png, image::ImageFormat::Png)
         .map_err(|e| anyhow!("chart {title}: encoding PNG: {e}"))?;
-    write_atomic(&path.with_extension("png"), png.get_ref())?;
-    write_atomic(path, svg.as_bytes())
+    set.write(&format!("{name}.svg"), svg.as_bytes())?;
+    set.write(&format!("{name}.png"), png.get_ref())?;
+    Ok(())
 }
 
 /// Draws the chart on any plotters backend.

@@ -7,7 +7,63 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
+use serde::Serialize;
+use tyreroad::scenario::output::{csv_bytes, fmt};
 use tyreroad_film as film;
+
+/// The columns of `<scan>-prints.csv`.
+const PRINT_CSV_HEADER: &str = "indenter,x_m,y_m,pixels,area_m2,mean_grey,mean_grey_density,\
+    pressure_of_mean_grey_pa,mean_grey_flag,mean_pixel_pressure_pa,force_n,radius_m,\
+    semi_major_m,semi_minor_m,orientation_rad,hertz_force_n,hertz_radius_m,saturated_pixels,\
+    below_range_pixels,touches_border,force_model_n,radius_model_m,eps_force,eps_radius";
+
+/// One matched print (empty fields: no calibrated value, no Hertz fit, no
+/// model to compare with).
+#[derive(Serialize)]
+struct PrintRow {
+    indenter: u32,
+    #[serde(rename = "x_m", serialize_with = "fmt::sci6")]
+    x: f64,
+    #[serde(rename = "y_m", serialize_with = "fmt::sci6")]
+    y: f64,
+    pixels: usize,
+    #[serde(rename = "area_m2", serialize_with = "fmt::sci6")]
+    area: f64,
+    #[serde(serialize_with = "fmt::fixed6")]
+    mean_grey: f64,
+    #[serde(serialize_with = "fmt::fixed6")]
+    mean_grey_density: f64,
+    #[serde(rename = "pressure_of_mean_grey_pa", serialize_with = "fmt::opt_sci6")]
+    pressure_of_mean_grey: Option<f64>,
+    mean_grey_flag: &'static str,
+    #[serde(rename = "mean_pixel_pressure_pa", serialize_with = "fmt::sci6")]
+    mean_pixel_pressure: f64,
+    #[serde(rename = "force_n", serialize_with = "fmt::sci6")]
+    force: f64,
+    #[serde(rename = "radius_m", serialize_with = "fmt::sci6")]
+    radius: f64,
+    #[serde(rename = "semi_major_m", serialize_with = "fmt::sci6")]
+    semi_major: f64,
+    #[serde(rename = "semi_minor_m", serialize_with = "fmt::sci6")]
+    semi_minor: f64,
+    #[serde(rename = "orientation_rad", serialize_with = "fmt::fixed6")]
+    orientation: f64,
+    #[serde(rename = "hertz_force_n", serialize_with = "fmt::opt_sci6")]
+    hertz_force: Option<f64>,
+    #[serde(rename = "hertz_radius_m", serialize_with = "fmt::opt_sci6")]
+    hertz_radius: Option<f64>,
+    saturated_pixels: usize,
+    below_range_pixels: usize,
+    touches_border: bool,
+    #[serde(rename = "force_model_n", serialize_with = "fmt::opt_sci6")]
+    force_model: Option<f64>,
+    #[serde(rename = "radius_model_m", serialize_with = "fmt::opt_sci6")]
+    radius_model: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_fixed6")]
+    eps_force: Option<f64>,
+    #[serde(serialize_with = "fmt::opt_fixed6")]
+    eps_radius: Option<f64>,
+}
 
 /// Arguments of `cargo xtask film`.
 #[derive(Debug, Clone, clap::Args)]
@@ -146,52 +202,49 @@ pub fn run(args: &FilmArgs) -> Result<()> {
     };
 
     // Per-print CSV.
-    let mut csv = String::from(
-        "indenter,x_m,y_m,pixels,area_m2,mean_grey,mean_grey_density,pressure_of_mean_grey_pa,\
-         mean_grey_flag,mean_pixel_pressure_pa,force_n,radius_m,semi_major_m,semi_minor_m,\
-         orientation_rad,hertz_force_n,hertz_radius_m,saturated_pixels,below_range_pixels,\
-         touches_border,force_model_n,radius_model_m,eps_force,eps_radius\n",
-    );
+    let mut rows = Vec::with_capacity(matching.matches.len());
     for (m, &(number, force, radius)) in matching.matches.iter().zip(&measured) {
         let p = &det.prints[m.print];
-        let (pm, flag) = match p.pressure_of_mean_grey {
-            film::Calibrated::InRange(v) => (format!("{v:.6e}"), "in_range"),
-            film::Calibrated::BelowRange => (String::new(), "below_range"),
-            film::Calibrated::Saturated => (String::new(), "saturated"),
+        let (pressure_of_mean_grey, flag) = match p.pressure_of_mean_grey {
+            film::Calibrated::InRange(v) => (Some(v), "in_range"),
+            film::Calibrated::BelowRange => (None, "below_range"),
+            film::Calibrated::Saturated => (None, "saturated"),
         };
-        let (hf, hr) = p
-            .hertz
-            .map(|h| (format!("{:.6e}", h.force), format!("{:.6e}", h.radius)))
-            .unwrap_or_default();
         let model = comparison
             .as_ref()
-            .and_then(|c| c.indenters.iter().find(|i| i.indenter == number))
-            .map(|i| {
-                format!(
-                    "{:.6e},{:.6e},{:.6},{:.6}",
-                    i.force_model, i.radius_model, i.eps_force, i.eps_radius
-                )
-            })
-            .unwrap_or_else(|| ",,,".into());
-        writeln!(
-            csv,
-            "{number},{:.6e},{:.6e},{},{:.6e},{:.6},{:.6},{pm},{flag},{:.6e},{force:.6e},{radius:.6e},\
-             {:.6e},{:.6e},{:.6},{hf},{hr},{},{},{},{model}",
-            m.centroid.0,
-            m.centroid.1,
-            p.pixel_count,
-            p.area,
-            p.mean_grey,
-            p.mean_grey_density,
-            p.mean_pixel_pressure,
-            p.ellipse.semi_major,
-            p.ellipse.semi_minor,
-            p.ellipse.orientation,
-            p.saturated_pixels,
-            p.below_range_pixels,
-            p.touches_border,
-        )?;
+            .and_then(|c| c.indenters.iter().find(|i| i.indenter == number));
+        rows.push(PrintRow {
+            indenter: number,
+            x: m.centroid.0,
+            y: m.centroid.1,
+            pixels: p.pixel_count,
+            area: p.area,
+            mean_grey: p.mean_grey,
+            mean_grey_density: p.mean_grey_density,
+            pressure_of_mean_grey,
+            mean_grey_flag: flag,
+            mean_pixel_pressure: p.mean_pixel_pressure,
+            force,
+            radius,
+            semi_major: p.ellipse.semi_major,
+            semi_minor: p.ellipse.semi_minor,
+            orientation: p.ellipse.orientation,
+            hertz_force: p.hertz.map(|h| h.force),
+            hertz_radius: p.hertz.map(|h| h.radius),
+            saturated_pixels: p.saturated_pixels,
+            below_range_pixels: p.below_range_pixels,
+            touches_border: p.touches_border,
+            force_model: model.map(|i| i.force_model),
+            radius_model: model.map(|i| i.radius_model),
+            eps_force: model.map(|i| i.eps_force),
+            eps_radius: model.map(|i| i.eps_radius),
+        });
     }
+    let csv = if rows.is_empty() {
+        format!("{}\n", PRINT_CSV_HEADER).into_bytes()
+    } else {
+        csv_bytes(None, &rows)?
+    };
 
     // Annotated PNG, encoded in memory.
     let png = film::annotated_png(&scan, &det, Some(&matching))?;
@@ -201,11 +254,11 @@ pub fn run(args: &FilmArgs) -> Result<()> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scan".into());
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let csv_path = args.out.join(format!("{stem}-prints.csv"));
-    let png_path = args.out.join(format!("{stem}-annotated.png"));
-    write_all_or_nothing(&[(&csv_path, csv.as_bytes()), (&png_path, &png)])?;
+    // Both files land together or not at all.
+    let mut set = tyreroad::scenario::output::OutputSet::new(&args.out)?;
+    set.write(&format!("{stem}-prints.csv"), &csv)?;
+    set.write(&format!("{stem}-annotated.png"), &png)?;
+    let written = set.commit()?;
 
     println!(
         "{}: {} prints ({} matched, {} stray), threshold grey {:.4}, background {:.4}, pixel {:.3e} m",
@@ -234,38 +287,8 @@ pub fn run(args: &FilmArgs) -> Result<()> {
             100.0 * t.radius.std_abs
         );
     }
-    println!("wrote {} and {}", csv_path.display(), png_path.display());
-    Ok(())
-}
-
-/// Writes every file to a temporary sibling, then renames them all: on any
-/// failure the temporaries are removed and no destination is touched by a
-/// partial write.
-fn write_all_or_nothing(files: &[(&PathBuf, &[u8])]) -> Result<()> {
-    let tmp: Vec<PathBuf> = files
-        .iter()
-        .map(|(p, _)| {
-            let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-            name.push(format!(".tmp-{}", std::process::id()));
-            p.with_file_name(name)
-        })
-        .collect();
-    let cleanup = |tmp: &[PathBuf]| {
-        for t in tmp {
-            let _ = std::fs::remove_file(t);
-        }
-    };
-    for ((_, data), t) in files.iter().zip(&tmp) {
-        if let Err(e) = std::fs::write(t, data) {
-            cleanup(&tmp);
-            return Err(e).with_context(|| format!("writing {}", t.display()));
-        }
-    }
-    for ((p, _), t) in files.iter().zip(&tmp) {
-        if let Err(e) = std::fs::rename(t, p) {
-            cleanup(&tmp);
-            return Err(e).with_context(|| format!("renaming {} to {}", t.display(), p.display()));
-        }
+    for w in &written {
+        println!("wrote {}", w.display());
     }
     Ok(())
 }
@@ -325,4 +348,84 @@ pub fn synthetic_table(
         )?;
     }
     Ok(s)
+}
+
+#[cfg(test)]
+mod print_csv_tests {
+    use super::*;
+
+    fn row(model: bool) -> PrintRow {
+        PrintRow {
+            indenter: 7,
+            x: 0.0123,
+            y: -0.004,
+            pixels: 321,
+            area: 1.2e-5,
+            mean_grey: 0.4,
+            mean_grey_density: 0.75,
+            pressure_of_mean_grey: model.then_some(1.5e6),
+            mean_grey_flag: if model { "in_range" } else { "saturated" },
+            mean_pixel_pressure: 1.4e6,
+            force: 12.5,
+            radius: 2.1e-3,
+            semi_major: 2.2e-3,
+            semi_minor: 2.0e-3,
+            orientation: 0.3,
+            hertz_force: model.then_some(12.0),
+            hertz_radius: model.then_some(2.05e-3),
+            saturated_pixels: 0,
+            below_range_pixels: 3,
+            touches_border: false,
+            force_model: model.then_some(13.0),
+            radius_model: model.then_some(2.0e-3),
+            eps_force: model.then_some(-0.04),
+            eps_radius: model.then_some(0.05),
+        }
+    }
+
+    /// The line the hand-written CSV produced.
+    fn by_hand(r: &PrintRow) -> String {
+        let o6e = |v: Option<f64>| v.map(|v| format!("{v:.6e}")).unwrap_or_default();
+        let o6 = |v: Option<f64>| v.map(|v| format!("{v:.6}")).unwrap_or_default();
+        format!(
+            "{},{:.6e},{:.6e},{},{:.6e},{:.6},{:.6},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6},{},{},{},{},{},{},{},{},{}",
+            r.indenter,
+            r.x,
+            r.y,
+            r.pixels,
+            r.area,
+            r.mean_grey,
+            r.mean_grey_density,
+            o6e(r.pressure_of_mean_grey),
+            r.mean_grey_flag,
+            r.mean_pixel_pressure,
+            r.force,
+            r.radius,
+            r.semi_major,
+            r.semi_minor,
+            r.orientation,
+            o6e(r.hertz_force),
+            o6e(r.hertz_radius),
+            r.saturated_pixels,
+            r.below_range_pixels,
+            r.touches_border,
+            o6e(r.force_model),
+            o6e(r.radius_model),
+            o6(r.eps_force),
+            o6(r.eps_radius),
+        )
+    }
+
+    #[test]
+    fn serde_rows_write_the_bytes_of_the_hand_written_csv() -> Result<()> {
+        let rows = [row(true), row(false)];
+        let text = String::from_utf8(csv_bytes(None, &rows)?)?;
+        let expected = format!(
+            "{PRINT_CSV_HEADER}\n{}\n{}\n",
+            by_hand(&rows[0]),
+            by_hand(&rows[1])
+        );
+        assert_eq!(text, expected);
+        Ok(())
+    }
 }

@@ -11,20 +11,19 @@
 mod bem_validation;
 mod charts;
 mod film_cmd;
-mod output;
 mod pressure_image;
 mod rolling_cmd;
-mod scenario;
 mod statics;
 mod texture_cmd;
 mod texture_static;
-mod units;
 mod validate;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use tyreroad::scenario::output::OutputSet;
+use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
 
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "tyreroad runner", version)]
@@ -59,51 +58,28 @@ fn main() -> Result<()> {
         Command::Validate(args) => validate::run(&args),
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
-        Command::Run { scenario, out } => {
-            let text = std::fs::read_to_string(&scenario)
-                .map_err(|e| anyhow::anyhow!("reading {}: {e}", scenario.display()))?;
-            let s = scenario::Scenario::parse(&text, &scenario.display().to_string())?;
-            let base = scenario.parent().unwrap_or(std::path::Path::new("."));
-            if let (Some(spec), Some(texture)) = (&s.rolling, &s.texture) {
-                let material = s.material()?;
-                let road = rolling_cmd::texture_road_parts(texture, base, material)?;
-                return rolling_cmd::run_rolling(material, Some(road), spec, &out);
-            }
-            if let Some(spec) = &s.rolling {
-                let road = if s.asperities.is_empty() {
-                    None
-                } else {
-                    let (positions, heights, laws) = s.asperity_parts()?;
-                    Some(rolling_cmd::RoadParts {
-                        positions,
-                        heights,
-                        laws,
-                    })
-                };
-                return rolling_cmd::run_rolling(s.material()?, road, spec, &out);
-            }
-            if s.texture.is_some() {
-                return texture_static::run_texture_static(&s, base, &out);
-            }
-            let (rows, runs) = statics::run_static(&s)?;
-            statics::print_table(&rows);
-            for r in &runs {
-                println!(
-                    "load {} N: Σ P = {:.9} N, δ0 = {:.6e} m, {} contacts, {} iterations",
-                    r.load, r.total, r.approach, r.contacts, r.iterations
-                );
-                if r.overlapping > 0 {
-                    println!(
-                        "  note: {} pairs of contacts overlap: the point-force coupling \
-                         does not hold there",
-                        r.overlapping
-                    );
-                }
-            }
-            for w in statics::write_static_outputs(&out, &s.name, &rows)? {
-                println!("written {w}");
-            }
-            Ok(())
-        }
+        Command::Run { scenario, out } => run_scenario(&scenario, &out),
     }
+}
+
+/// `cargo xtask run`: the library runs the scenario, this prints and writes.
+fn run_scenario(path: &Path, out: &Path) -> Result<()> {
+    let s = Scenario::from_path(path)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    if s.rolling.is_some() {
+        return rolling_cmd::run_rolling(&s, base, out);
+    }
+    let result = s.run(&RunOptions::new(base))?;
+    let mut set = OutputSet::new(out)?;
+    match result {
+        ScenarioResult::Texture(r) => texture_static::report_texture_static(&s.name, &r, &mut set)?,
+        ScenarioResult::Static(r) => {
+            statics::print_table(&r.rows);
+            statics::print_runs(&r.runs);
+            statics::write_static_outputs(&mut set, &s.name, &r.rows)?;
+        }
+        ScenarioResult::Rolling(run) => return rolling_cmd::report_rolling(&run, out),
+    }
+    statics::print_written(&set.commit()?);
+    Ok(())
 }

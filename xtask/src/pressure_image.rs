@@ -1,15 +1,15 @@
 //! A pressure map as a PNG, what a pressure film would show: one pixel per
 //! map cell, zero pressure white, contact pressures through the viridis
-//! colour map, and a colour bar labelled in MPa with a built-in bitmap font
-//! (no system fonts needed).
+//! colour map, and a colour bar labelled in MPa. Drawn with plotters; text
+//! in the charts' embedded DejaVu font (`charts::register_font`).
 
-use std::path::Path;
-
-use anyhow::Result;
-use image::{ImageFormat, Rgb, RgbImage};
+use anyhow::{Result, anyhow};
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use tyreroad::scenario::output::OutputSet;
 use tyreroad::two_scale::PressureField;
 
-use crate::output::write_atomic;
+use crate::charts::register_font;
 
 /// Viridis at 0, 1/8, …, 1 (matplotlib's table, sampled), interpolated
 /// linearly in between.
@@ -26,7 +26,7 @@ const VIRIDIS: [[u8; 3]; 9] = [
 ];
 
 /// Viridis colour of `t ∈ [0, 1]`.
-pub fn viridis(t: f64) -> Rgb<u8> {
+pub fn viridis(t: f64) -> RGBColor {
     let t = if t.is_finite() {
         t.clamp(0.0, 1.0)
     } else {
@@ -41,70 +41,7 @@ pub fn viridis(t: f64) -> Rgb<u8> {
         let b = f64::from(VIRIDIS[k + 1][ch]);
         *out = (a + f * (b - a)).round() as u8;
     }
-    Rgb(c)
-}
-
-/// Glyphs 5 rows high; each row's bits read left to right over `width`.
-fn glyph(c: char) -> Option<(u8, [u8; 5])> {
-    Some(match c {
-        '0' => (3, [0b111, 0b101, 0b101, 0b101, 0b111]),
-        '1' => (3, [0b010, 0b110, 0b010, 0b010, 0b111]),
-        '2' => (3, [0b111, 0b001, 0b111, 0b100, 0b111]),
-        '3' => (3, [0b111, 0b001, 0b011, 0b001, 0b111]),
-        '4' => (3, [0b101, 0b101, 0b111, 0b001, 0b001]),
-        '5' => (3, [0b111, 0b100, 0b111, 0b001, 0b111]),
-        '6' => (3, [0b111, 0b100, 0b111, 0b101, 0b111]),
-        '7' => (3, [0b111, 0b001, 0b010, 0b010, 0b010]),
-        '8' => (3, [0b111, 0b101, 0b111, 0b101, 0b111]),
-        '9' => (3, [0b111, 0b101, 0b111, 0b001, 0b111]),
-        '.' => (1, [0, 0, 0, 0, 1]),
-        ' ' => (2, [0; 5]),
-        'M' => (5, [0b10001, 0b11011, 0b10101, 0b10001, 0b10001]),
-        'P' => (3, [0b110, 0b101, 0b110, 0b100, 0b100]),
-        'a' => (3, [0b000, 0b011, 0b101, 0b101, 0b011]),
-        'N' => (4, [0b1001, 0b1101, 0b1011, 0b1001, 0b1001]),
-        'm' => (5, [0b00000, 0b11010, 0b10101, 0b10101, 0b10101]),
-        _ => return None,
-    })
-}
-
-/// Width in pixels of `text` at `scale`.
-fn text_width(text: &str, scale: u32) -> u32 {
-    text.chars()
-        .filter_map(glyph)
-        .map(|(w, _)| (u32::from(w) + 1) * scale)
-        .sum()
-}
-
-/// Draws `text` with its top-left corner at `(x, y)`; unknown characters
-/// are skipped.
-fn draw_text(img: &mut RgbImage, text: &str, x: u32, y: u32, scale: u32, colour: Rgb<u8>) {
-    let mut cx = x;
-    for (w, rows) in text.chars().filter_map(glyph) {
-        for (r, bits) in rows.iter().enumerate() {
-            for col in 0..u32::from(w) {
-                if bits >> (u32::from(w) - 1 - col) & 1 == 1 {
-                    fill(
-                        img,
-                        cx + col * scale,
-                        y + r as u32 * scale,
-                        scale,
-                        scale,
-                        colour,
-                    );
-                }
-            }
-        }
-        cx += (u32::from(w) + 1) * scale;
-    }
-}
-
-fn fill(img: &mut RgbImage, x: u32, y: u32, w: u32, h: u32, colour: Rgb<u8>) {
-    for yy in y..(y + h).min(img.height()) {
-        for xx in x..(x + w).min(img.width()) {
-            img.put_pixel(xx, yy, colour);
-        }
-    }
+    RGBColor(c[0], c[1], c[2])
 }
 
 /// A "nice" tick step (1, 2 or 5 × 10^k) for about `count` ticks up to `max`.
@@ -124,82 +61,116 @@ fn tick_step(max: f64, count: f64) -> f64 {
     nice * mag
 }
 
-/// Renders the map: north up (row `j` of the grid at the bottom for `j = 0`),
-/// colour bar from 0 to the peak pressure on the right, `title` at the top
-/// left, and a 10 mm scale bar.
-pub fn render(map: &PressureField, title: &str) -> RgbImage {
-    const SCALE: u32 = 2;
-    const MARGIN: u32 = 16;
-    const BAR_W: u32 = 20;
-    let white = Rgb([255, 255, 255]);
-    let black = Rgb([0, 0, 0]);
-    let (nx, ny) = (map.grid.nx() as u32, map.grid.ny() as u32);
+const MARGIN: i32 = 16;
+const BAR_W: i32 = 20;
+const TEXT_PX: i32 = 14;
+
+/// Renders the map into RGB pixels: north up (row `j = 0` of the grid at the
+/// bottom), colour bar from 0 to the peak pressure on the right, `title` at
+/// the top left, and a 10 mm scale bar. Returns `(width, height, pixels)`.
+pub fn render(map: &PressureField, title: &str) -> Result<(u32, u32, Vec<u8>)> {
+    register_font()?;
+    let (nx, ny) = (map.grid.nx() as i32, map.grid.ny() as i32);
     let p_max = map.max_pressure().max(f64::MIN_POSITIVE);
-    let top = MARGIN + 7 * SCALE + 8;
+    let top = MARGIN + TEXT_PX + 8;
     let bar_x = MARGIN + nx + 24;
     let label_x = bar_x + BAR_W + 8;
-    let width = label_x + text_width("00.00 MPa", SCALE) + MARGIN;
-    let height = top + ny + MARGIN + 7 * SCALE + 10;
-    let mut img = RgbImage::from_pixel(width, height, white);
-
-    for j in 0..ny {
-        for i in 0..nx {
-            let p = map.pressure[(j * nx + i) as usize];
-            let c = if p > 0.0 { viridis(p / p_max) } else { white };
-            img.put_pixel(MARGIN + i, top + (ny - 1 - j), c);
+    let width = (label_x + 70 + MARGIN) as u32;
+    let height = (top + ny + MARGIN + TEXT_PX + 10) as u32;
+    let mut pixels = vec![255u8; (width * height * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        let e = |e: DrawingAreaErrorKind<_>| anyhow!("pressure map {title}: {e}");
+        let font = ("sans-serif", TEXT_PX).into_font().color(&BLACK);
+        for j in 0..ny {
+            for i in 0..nx {
+                let p = map.pressure[(j * nx + i) as usize];
+                if p > 0.0 {
+                    root.draw_pixel((MARGIN + i, top + (ny - 1 - j)), &viridis(p / p_max))
+                        .map_err(e)?;
+                }
+            }
         }
-    }
-    // Frame.
-    fill(&mut img, MARGIN - 1, top - 1, nx + 2, 1, black);
-    fill(&mut img, MARGIN - 1, top + ny, nx + 2, 1, black);
-    fill(&mut img, MARGIN - 1, top - 1, 1, ny + 2, black);
-    fill(&mut img, MARGIN + nx, top - 1, 1, ny + 2, black);
-    draw_text(&mut img, title, MARGIN, MARGIN, SCALE, black);
+        root.draw(&Rectangle::new(
+            [(MARGIN - 1, top - 1), (MARGIN + nx, top + ny)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(e)?;
+        root.draw(&Text::new(
+            title.to_string(),
+            (MARGIN, MARGIN),
+            font.clone(),
+        ))
+        .map_err(e)?;
 
-    // 10 mm scale bar under the map.
-    let ten_mm = (0.01 / map.grid.dx()).round() as u32;
-    if ten_mm + 2 < nx {
-        let y = top + ny + 8;
-        fill(&mut img, MARGIN, y, ten_mm, SCALE, black);
-        draw_text(
-            &mut img,
-            "10 mm",
-            MARGIN + ten_mm + 6,
-            y - 2 * SCALE,
-            SCALE,
-            black,
-        );
-    }
+        // 10 mm scale bar under the map.
+        let ten_mm = (0.01 / map.grid.dx()).round() as i32;
+        if ten_mm + 2 < nx {
+            let y = top + ny + 8;
+            root.draw(&Rectangle::new(
+                [(MARGIN, y), (MARGIN + ten_mm, y + 2)],
+                BLACK.filled(),
+            ))
+            .map_err(e)?;
+            root.draw(&Text::new(
+                "10 mm".to_string(),
+                (MARGIN + ten_mm + 6, y + 1),
+                font.pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(e)?;
+        }
 
-    // Colour bar: 0 at the bottom, p_max at the top.
-    let bar_h = ny.max(2);
-    for y in 0..bar_h {
-        let t = 1.0 - f64::from(y) / f64::from(bar_h - 1);
-        fill(&mut img, bar_x, top + y, BAR_W, 1, viridis(t));
+        // Colour bar: 0 at the bottom, p_max at the top.
+        let bar_h = ny.max(2);
+        for y in 0..bar_h {
+            let t = 1.0 - f64::from(y) / f64::from(bar_h - 1);
+            root.draw(&Rectangle::new(
+                [(bar_x, top + y), (bar_x + BAR_W, top + y + 1)],
+                viridis(t).filled(),
+            ))
+            .map_err(e)?;
+        }
+        root.draw(&Text::new("MPa".to_string(), (bar_x, MARGIN), font.clone()))
+            .map_err(e)?;
+        let max_mpa = p_max / 1e6;
+        let step = tick_step(max_mpa, 6.0);
+        let decimals = (-step.log10().floor()).max(0.0) as usize;
+        let mut k = 0.0;
+        while k * step <= max_mpa * (1.0 + 1e-9) {
+            let v = k * step;
+            let y = top + ((1.0 - v / max_mpa) * f64::from(bar_h - 1)).round() as i32;
+            root.draw(&PathElement::new(
+                vec![(bar_x + BAR_W, y), (bar_x + BAR_W + 4, y)],
+                BLACK,
+            ))
+            .map_err(e)?;
+            root.draw(&Text::new(
+                format!("{v:.decimals$}"),
+                (label_x, y),
+                font.pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(e)?;
+            k += 1.0;
+        }
+        root.present().map_err(e)?;
     }
-    draw_text(&mut img, "MPa", bar_x, MARGIN, SCALE, black);
-    let max_mpa = p_max / 1e6;
-    let step = tick_step(max_mpa, 6.0);
-    let decimals = (-step.log10().floor()).max(0.0) as usize;
-    let mut k = 0.0;
-    while k * step <= max_mpa * (1.0 + 1e-9) {
-        let v = k * step;
-        let y = top + ((1.0 - v / max_mpa) * f64::from(bar_h - 1)).round() as u32;
-        fill(&mut img, bar_x + BAR_W, y, 4, 1, black);
-        let label = format!("{v:.decimals$}");
-        let ly = y.saturating_sub(5 * SCALE / 2).max(top.saturating_sub(2));
-        draw_text(&mut img, &label, label_x, ly, SCALE, black);
-        k += 1.0;
-    }
-    img
+    Ok((width, height, pixels))
 }
 
-/// Renders the map (see [`render`]) and writes it as a PNG, atomically.
-pub fn write_pressure_png(path: &Path, map: &PressureField, title: &str) -> Result<()> {
-    let img = render(map, title);
+/// Renders the map (see [`render`]) and stages it as PNG file `name`.
+pub fn write_pressure_png(
+    set: &mut OutputSet,
+    name: &str,
+    map: &PressureField,
+    title: &str,
+) -> Result<()> {
+    let (w, h, pixels) = render(map, title)?;
+    let img = image::RgbImage::from_raw(w, h, pixels)
+        .ok_or_else(|| anyhow!("pressure map {title}: pixel buffer of the wrong size"))?;
     let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, ImageFormat::Png)?;
-    write_atomic(path, bytes.get_ref())
+    img.write_to(&mut bytes, image::ImageFormat::Png)?;
+    set.write(name, bytes.get_ref())?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -208,12 +179,11 @@ mod tests {
 
     #[test]
     fn viridis_ends_and_ticks() {
-        assert_eq!(viridis(0.0), Rgb([68, 1, 84]));
-        assert_eq!(viridis(1.0), Rgb([253, 231, 37]));
-        assert_eq!(viridis(f64::NAN), Rgb([68, 1, 84]));
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+        assert_eq!(viridis(f64::NAN), RGBColor(68, 1, 84));
         assert!((tick_step(2.55, 6.0) - 0.5).abs() < 1e-12);
         assert!((tick_step(3.1, 6.0) - 1.0).abs() < 1e-12);
         assert!((tick_step(0.9, 6.0) - 0.2).abs() < 1e-12);
-        assert_eq!(text_width("1.5", 1), 4 + 2 + 4);
     }
 }

@@ -7,10 +7,12 @@ use anyhow::{Result, bail};
 use tyreroad_asperity::Sphere;
 use tyreroad_contact_law::{C_HERTZ_EXACT, ContactLaw, HertzLaw, PotentialLaw};
 
-use crate::scenario::Scenario;
-use crate::statics::{StaticRow, loads, print_table, run_static, write_static_outputs};
+use tyreroad::scenario::output::OutputSet;
+use tyreroad::scenario::{Scenario, StaticRow, loads, run_static};
 
-/// The embedded default scenario: the paper's experiment (DESIGN §2.6).
+use crate::statics::{print_table, print_written, write_static_outputs};
+
+/// The embedded default scenario: the paper's experiment (docs/validation.md).
 pub const PAPER_SCENARIO: &str = include_str!("../../fixtures/paper_25_spheres.toml");
 
 /// Options of `cargo xtask validate`.
@@ -41,13 +43,14 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     };
     let scenario = Scenario::parse(&text, &origin)?;
     println!("== {} — {}", scenario.name, scenario.description);
-    let (rows, runs) = run_static(&scenario)?;
+    let statics = run_static(&scenario)?;
+    let (rows, runs) = (&statics.rows, &statics.runs);
     let mut checks = Vec::new();
 
     println!("\nMultipoint model, forces P (N) and Hertz contact radii a (mm), paper numbering:");
-    print_table(&rows);
+    print_table(rows);
     println!();
-    for r in &runs {
+    for r in runs {
         println!(
             "load {:>6.1} N: Σ P = {:.12} N, approach δ0 = {:.4} mm, {} contacts, \
              {} Newton iterations, residual {:.1e}, {:.2} ms",
@@ -67,28 +70,29 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         });
     }
 
-    checks.extend(symmetry_checks(&rows));
+    checks.extend(symmetry_checks(rows));
     checks.push(hertz_check(&scenario)?);
 
     if args.scenario.is_none() {
         println!();
         print!(
             "{}",
-            crate::film_cmd::synthetic_table(&film_rows(&rows), None)?
+            crate::film_cmd::synthetic_table(&film_rows(rows), None)?
         );
     }
 
-    let mut written = write_static_outputs(&args.out, &scenario.name, &rows)?;
+    let mut set = OutputSet::new(&args.out)?;
+    write_static_outputs(&mut set, &scenario.name, rows)?;
     if args.scenario.is_none() {
         // The model measured against the full-grid BEM reference.
-        let report = crate::bem_validation::run(&rows, &scenario, &args.out)?;
-        checks.extend(report.checks.into_iter().map(|c| Check {
+        let bem = crate::bem_validation::run(&statics, &scenario, &mut set)?;
+        checks.extend(bem.into_iter().map(|c| Check {
             name: c.name,
             passed: c.passed,
             detail: c.detail,
         }));
-        written.extend(report.written);
     }
+    let written = set.commit()?;
     println!("\nChecks:");
     let mut failed = 0;
     for c in &checks {
@@ -101,9 +105,7 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         failed += usize::from(!c.passed);
     }
     println!("\nWritten:");
-    for w in &written {
-        println!("  {w}");
-    }
+    print_written(&written);
     if failed > 0 {
         bail!("{failed} validation check(s) failed");
     }

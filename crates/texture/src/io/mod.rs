@@ -1,5 +1,7 @@
-//! Readers and writers: X3P, ASCII grid, xyz, Digital Surf `.sur`.
+//! Readers and writers: X3P, ASCII grid, xyz, Digital Surf `.sur`, NumPy
+//! `.npy`/`.npz` (read only).
 
+pub mod npy;
 pub mod sur;
 pub mod text;
 pub mod x3p;
@@ -9,7 +11,8 @@ use std::path::Path;
 use crate::{HeightMap, TextureError};
 
 /// Read a height map, choosing the format by the file extension: `.x3p`,
-/// `.sur`, `.xyz`, and anything else as an ASCII grid (`.asc`, `.txt`, ...).
+/// `.sur`, `.xyz`, `.npy` (spacing in a sidecar file) and `.npz`
+/// ([`npy`]), and anything else as an ASCII grid (`.asc`, `.txt`, ...).
 pub fn read_any(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
     let ext = path
@@ -20,6 +23,8 @@ pub fn read_any(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
         "x3p" => x3p::read_x3p(path),
         "sur" => sur::read_sur(path),
         "xyz" => text::read_xyz(path),
+        "npy" => npy::read_npy_with_sidecar(path),
+        "npz" => npy::read_npz(path),
         _ => text::read_ascii_grid(path),
     }
 }

@@ -61,6 +61,19 @@ dimension!(
 );
 
 dimension!(
+    AreaDim,
+    "area",
+    [
+        ("m2", 1.0),
+        ("m²", 1.0),
+        ("cm2", 1e-4),
+        ("cm²", 1e-4),
+        ("mm2", 1e-6),
+        ("mm²", 1e-6),
+    ]
+);
+
+dimension!(
     SpeedDim,
     "speed",
     [
@@ -190,6 +203,8 @@ pub type Force = Quantity<ForceDim>;
 pub type Angle = Quantity<AngleDim>;
 /// A speed (m/s).
 pub type Speed = Quantity<SpeedDim>;
+/// An area (m²).
+pub type Area = Quantity<AreaDim>;
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
@@ -212,6 +227,10 @@ mod tests {
                 < 1e-6
         );
         assert_eq!(Force::parse("0.5 kN").map(Quantity::value), Ok(500.0));
+        assert!((Area::parse("2 mm2").map(Quantity::value).unwrap_or(0.0) - 2e-6).abs() < 1e-18);
+        assert!(
+            (Area::parse("1.5e-6 m2").map(Quantity::value).unwrap_or(0.0) - 1.5e-6).abs() < 1e-20
+        );
         assert!(
             (Angle::parse("90 deg").map(Quantity::value).unwrap_or(0.0)
                 - std::f64::consts::FRAC_PI_2)

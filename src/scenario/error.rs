@@ -1,0 +1,110 @@
+//! The one error type of the scenario layer.
+
+use std::path::PathBuf;
+
+/// What can go wrong reading, running or writing a scenario. Each variant
+/// keeps the layer's own error as its source, with the section or the load
+/// it happened at.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ScenarioError {
+    /// A file could not be read or written.
+    #[error("{action} {}: {source}", path.display())]
+    Io {
+        /// What was being done ("reading", "writing", ...).
+        action: &'static str,
+        /// The file or directory.
+        path: PathBuf,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// The TOML text does not describe a scenario; the message names the
+    /// offending key and its line.
+    #[error("reading scenario {origin}: {message}")]
+    Parse {
+        /// Where the text came from (a path or a label).
+        origin: String,
+        /// The parser's message (key, line and column).
+        message: String,
+    },
+    /// The scenario parses but asks for something inconsistent or
+    /// unsupported (the message names the section).
+    #[error("{0}")]
+    Invalid(String),
+    /// A material, shape or law is out of range.
+    #[error("{context}: {source}")]
+    Law {
+        /// Section or asperity.
+        context: String,
+        /// The contact-law error.
+        source: tyreroad_contact_law::LawError,
+    },
+    /// A shape's geometry is out of range.
+    #[error("{context}: {source}")]
+    Geometry {
+        /// Section or asperity.
+        context: String,
+        /// The geometry error.
+        source: tyreroad_asperity::GeometryError,
+    },
+    /// A multipoint solve failed or the asperity set is malformed.
+    #[error("{context}: {source}")]
+    Solve {
+        /// What was being solved.
+        context: String,
+        /// The solver's error.
+        source: tyreroad_multipoint::SolveError,
+    },
+    /// A height map could not be read or synthesised.
+    #[error("{context}: {source}")]
+    Texture {
+        /// Section.
+        context: String,
+        /// The texture error.
+        source: tyreroad_texture::TextureError,
+    },
+    /// A texture could not be turned into asperities.
+    #[error("turning the texture into asperities: {0}")]
+    TextureRoad(#[from] crate::texture_road::TextureRoadError),
+    /// A two-scale rebuild failed.
+    #[error("{context}: {source}")]
+    TwoScale {
+        /// The load.
+        context: String,
+        /// The two-scale error.
+        source: crate::two_scale::TwoScaleError,
+    },
+    /// A rolling run failed.
+    #[error("rolling: {0}")]
+    Rolling(#[from] tyreroad_rolling::RollingError),
+    /// A BEM reference solve failed.
+    #[error("{context}: {source}")]
+    Bem {
+        /// What was being solved.
+        context: String,
+        /// The BEM error.
+        source: tyreroad_bem::BemError,
+    },
+    /// An output could not be encoded.
+    #[error("encoding {what}: {message}")]
+    Encode {
+        /// The output.
+        what: String,
+        /// The encoder's message.
+        message: String,
+    },
+}
+
+impl ScenarioError {
+    pub(crate) fn io(
+        action: &'static str,
+        path: impl Into<PathBuf>,
+    ) -> impl FnOnce(std::io::Error) -> Self {
+        let path = path.into();
+        move |source| Self::Io {
+            action,
+            path,
+            source,
+        }
+    }
+}

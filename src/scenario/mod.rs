@@ -1,0 +1,109 @@
+//! The model as a library: scenario files read, run and written.
+//!
+//! A scenario (TOML, units written out: "5 mm", "6.54 MPa") names a tread
+//! material and a road (an `[[asperity]]` list, a `[texture]` or a
+//! `[rolling.synthetic_road]`) and what to solve: `[static]` loads or a
+//! `[rolling]` run. [`Scenario::run`] dispatches on its sections and returns
+//! typed results; nothing here prints. Files are written only through
+//! [`output`], whose [`output::OutputSet`] stages a run's files in a
+//! temporary directory and moves them into place together.
+//!
+//! ```no_run
+//! use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+//! let scenario = Scenario::from_path("fixtures/paper_25_spheres.toml")?;
+//! let options = RunOptions::new("fixtures");
+//! if let ScenarioResult::Static(r) = scenario.run(&options)? {
+//!     println!("{} rows", r.rows.len());
+//! }
+//! # Ok::<(), tyreroad::scenario::ScenarioError>(())
+//! ```
+
+mod bem;
+mod error;
+pub mod output;
+mod rolling;
+mod rolling_spec;
+mod spec;
+mod statics;
+mod texture;
+pub mod units;
+
+use std::path::PathBuf;
+
+pub use bem::{
+    BEM_CELL, BemComparison, BemLoad, ComparedLoad, IMAGE_LOAD, MAP_CELL, MAX_FORCE_DIFFERENCE,
+    bem_comparison, differences,
+};
+pub use error::ScenarioError;
+pub use rolling::{RoadSummary, RollingRun, Spectra};
+pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
+pub use spec::{
+    AsperitySpec, DynLaw, MaterialSpec, Scenario, ShapeSpec, SolverSpec, StaticSpec, SynthSpec,
+    TextureSpec,
+};
+pub use statics::{
+    LoadRun, StaticResult, StaticRow, StaticSolve, loads, run_static, run_static_problem,
+};
+pub use texture::{TextureLoad, TextureResult, TextureSummary};
+pub use tyreroad_multipoint::Par;
+pub use tyreroad_rolling::{Progress, ProgressFn};
+
+/// How to run a scenario (nothing here changes the results).
+#[derive(Clone, Default)]
+pub struct RunOptions<'a> {
+    /// Directory against which relative paths of the scenario (a
+    /// `[texture] file`) are resolved: usually the scenario file's own.
+    pub base_dir: PathBuf,
+    /// Parallelism of a rolling run: `None` takes `[rolling] threads`, or
+    /// every core when that is unset.
+    pub par: Option<Par>,
+    /// Called after each rolling step, from the worker threads; return
+    /// `ControlFlow::Break(())` to stop the run.
+    pub progress: Option<ProgressFn<'a>>,
+    /// Where a rolling run checkpoints and resumes from (when its
+    /// `[rolling] checkpoint` is true); `None`: no checkpoint.
+    pub checkpoint_dir: Option<PathBuf>,
+}
+
+impl RunOptions<'_> {
+    /// Options resolving relative paths against `base_dir`, with no
+    /// progress callback and no checkpoint.
+    pub fn new(base_dir: impl Into<PathBuf>) -> Self {
+        Self {
+            base_dir: base_dir.into(),
+            ..Self::default()
+        }
+    }
+}
+
+/// What a scenario run produced.
+#[derive(Clone, Debug)]
+pub enum ScenarioResult {
+    /// `[static]` loads on an `[[asperity]]` list.
+    Static(StaticResult),
+    /// `[static]` loads on a `[texture]`, with the two-scale rebuild.
+    Texture(TextureResult),
+    /// A `[rolling]` run.
+    Rolling(Box<RollingRun>),
+}
+
+impl Scenario {
+    /// Runs the scenario: a `[rolling]` run when it has that section (on its
+    /// texture, asperities or synthetic road), else its `[static]` loads on
+    /// its `[texture]` or its `[[asperity]]` list.
+    ///
+    /// # Errors
+    /// Any [`ScenarioError`]: a missing section, an invalid material or
+    /// shape, an unreadable texture, a failed solve or run.
+    pub fn run(&self, options: &RunOptions<'_>) -> Result<ScenarioResult, ScenarioError> {
+        if let Some(spec) = &self.rolling {
+            return rolling::run_rolling(self, spec, options)
+                .map(|r| ScenarioResult::Rolling(Box::new(r)));
+        }
+        if self.texture.is_some() {
+            return texture::run_texture_static(self, &options.base_dir)
+                .map(ScenarioResult::Texture);
+        }
+        run_static(self).map(ScenarioResult::Static)
+    }
+}

@@ -1,0 +1,437 @@
+//! The one way the scenario layer writes files.
+//!
+//! An [`OutputSet`] stages a run's files in a fresh temporary directory
+//! inside the output folder and moves them into place only when every one
+//! was written ([`OutputSet::commit`]); a failed or interrupted run leaves
+//! the folder as it was. CSV tables are serde rows ([`csv_bytes`]) whose
+//! number columns keep their fixed formats ([`fmt`]); arrays go out as
+//! NumPy `.npy` / `.npz` ([`npy_bytes`], [`NpzBuilder`]).
+
+use std::fs;
+use std::io::{Cursor, Write};
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::ScenarioError;
+
+/// Files staged for one output folder, moved in together.
+#[derive(Debug)]
+pub struct OutputSet {
+    dir: PathBuf,
+    staging: tempfile::TempDir,
+    names: Vec<String>,
+}
+
+impl OutputSet {
+    /// A set that will land in `dir` (created when missing).
+    ///
+    /// # Errors
+    /// [`ScenarioError::Io`] if `dir` or the staging directory cannot be
+    /// created.
+    pub fn new(dir: impl Into<PathBuf>) -> Result<Self, ScenarioError> {
+        let dir = dir.into();
+        fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
+        let staging = tempfile::Builder::new()
+            .prefix(".tyreroad-staging-")
+            .tempdir_in(&dir)
+            .map_err(ScenarioError::io("creating a staging directory in", &dir))?;
+        Ok(Self {
+            dir,
+            staging,
+            names: Vec::new(),
+        })
+    }
+
+    /// The folder the set lands in.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Where a writer that needs a path (a chart backend) puts file `name`;
+    /// every file found in the staging directory at commit is moved in.
+    pub fn staging_path(&mut self, name: &str) -> PathBuf {
+        if !self.names.iter().any(|n| n == name) {
+            self.names.push(name.into());
+        }
+        self.staging.path().join(name)
+    }
+
+    /// Stages `bytes` as file `name`.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Io`] if the file cannot be written.
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<(), ScenarioError> {
+        let path = self.staging_path(name);
+        fs::write(&path, bytes).map_err(ScenarioError::io("writing", path))
+    }
+
+    /// Stages `rows` as CSV file `name` (header from the row type's fields).
+    ///
+    /// # Errors
+    /// As [`csv_bytes`] and [`OutputSet::write`].
+    pub fn write_csv<R: Serialize>(&mut self, name: &str, rows: &[R]) -> Result<(), ScenarioError> {
+        let bytes = csv_bytes(None, rows)?;
+        self.write(name, &bytes)
+    }
+
+    /// Moves every staged file into the folder (replacing files of the same
+    /// name) and returns their final paths, in the order they were staged.
+    ///
+    /// Each file lands by one rename on the same file system, so a reader
+    /// sees the old or the new file, never a half-written one.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Io`] if the staging directory cannot be read or a
+    /// file cannot be moved (those not moved yet are removed with the
+    /// staging directory).
+    pub fn commit(mut self) -> Result<Vec<PathBuf>, ScenarioError> {
+        let staged = fs::read_dir(self.staging.path())
+            .map_err(ScenarioError::io("reading", self.staging.path()))?;
+        let mut extra = Vec::new();
+        for entry in staged {
+            let entry = entry.map_err(ScenarioError::io("reading", self.staging.path()))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if !self.names.contains(&name) {
+                extra.push(name);
+            }
+        }
+        extra.sort();
+        self.names.extend(extra);
+        let mut written = Vec::with_capacity(self.names.len());
+        for name in &self.names {
+            let from = self.staging.path().join(name);
+            if !from.exists() {
+                continue;
+            }
+            let to = self.dir.join(name);
+            fs::rename(&from, &to).map_err(ScenarioError::io("moving into place", &to))?;
+            written.push(to);
+        }
+        let staging = self.staging.path().to_path_buf();
+        self.staging
+            .close()
+            .map_err(ScenarioError::io("removing", staging))?;
+        Ok(written)
+    }
+}
+
+/// A CSV table: `header` (when given; else the row type's field names) then
+/// one line per row, `\n`-terminated, fields quoted only where CSV needs it.
+///
+/// # Errors
+/// [`ScenarioError::Encode`] if a row does not serialise to a record.
+pub fn csv_bytes<R: Serialize>(
+    header: Option<&[String]>,
+    rows: &[R],
+) -> Result<Vec<u8>, ScenarioError> {
+    let encode = |e: csv::Error| ScenarioError::Encode {
+        what: "CSV".into(),
+        message: e.to_string(),
+    };
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(header.is_none())
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    if let Some(h) = header {
+        w.write_record(h).map_err(encode)?;
+        if rows.is_empty() {
+            // The header alone still makes a table.
+        }
+    } else if rows.is_empty() {
+        return Err(ScenarioError::Encode {
+            what: "CSV".into(),
+            message: "no rows to take the header from".into(),
+        });
+    }
+    for r in rows {
+        w.serialize(r).map_err(encode)?;
+    }
+    w.into_inner().map_err(|e| ScenarioError::Encode {
+        what: "CSV".into(),
+        message: e.to_string(),
+    })
+}
+
+/// The fixed number formats of the CSV columns, as serde `serialize_with`
+/// functions: the outputs' bytes stay those of the formats they always had.
+pub mod fmt {
+    use serde::Serializer;
+
+    /// Rust's shortest round-trip `{}` (loads, band labels).
+    pub fn plain<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v}"))
+    }
+
+    /// Shortest round-trip scientific `{:e}` (coordinates).
+    pub fn sci<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:e}"))
+    }
+
+    /// Scientific, 6 decimals.
+    pub fn sci6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.6e}"))
+    }
+
+    /// Fixed, 6 decimals.
+    pub fn fixed6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.6}"))
+    }
+
+    /// Scientific with 6 decimals, or an empty field.
+    pub fn opt_sci6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => sci6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
+    /// Fixed with 6 decimals, or an empty field.
+    pub fn opt_fixed6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => fixed6(v, s),
+            None => s.serialize_str(""),
+        }
+    }
+
+    /// Scientific, 9 decimals.
+    pub fn sci9<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.9e}"))
+    }
+
+    /// Scientific, 12 decimals.
+    pub fn sci12<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.12e}"))
+    }
+
+    /// Fixed, 3 decimals (levels in dB, band centres).
+    pub fn fixed3<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.3}"))
+    }
+
+    /// A list of values, each scientific with 9 decimals (one column each).
+    pub fn sci9_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| Sci9(*x)))
+    }
+
+    /// A list of values, each fixed with 3 decimals (one column each).
+    pub fn fixed3_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| Fixed3(*x)))
+    }
+
+    struct Sci9(f64);
+    impl serde::Serialize for Sci9 {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            sci9(&self.0, s)
+        }
+    }
+    struct Fixed3(f64);
+    impl serde::Serialize for Fixed3 {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            fixed3(&self.0, s)
+        }
+    }
+}
+
+/// An element type of a NumPy array.
+pub trait NpyElement: npyz::AutoSerialize + Copy {}
+impl NpyElement for f64 {}
+impl NpyElement for f32 {}
+impl NpyElement for u32 {}
+impl NpyElement for i64 {}
+impl NpyElement for u64 {}
+
+/// A `.npy` file (format 1.0, C order, little-endian) holding `data` with
+/// `shape` (row-major; the product of `shape` must be `data.len()`).
+///
+/// # Errors
+/// [`ScenarioError::Encode`] if the shape does not match the data.
+pub fn npy_bytes<T: NpyElement>(shape: &[usize], data: &[T]) -> Result<Vec<u8>, ScenarioError> {
+    use npyz::WriterBuilder;
+    let count: usize = shape.iter().product();
+    if count != data.len() {
+        return Err(ScenarioError::Encode {
+            what: ".npy".into(),
+            message: format!("shape {shape:?} holds {count} values, not {}", data.len()),
+        });
+    }
+    let encode = |e: std::io::Error| ScenarioError::Encode {
+        what: ".npy".into(),
+        message: e.to_string(),
+    };
+    let mut bytes = Vec::new();
+    let shape: Vec<u64> = shape.iter().map(|&n| n as u64).collect();
+    let mut w = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&shape)
+        .writer(&mut bytes)
+        .begin_nd()
+        .map_err(encode)?;
+    w.extend(data.iter().copied()).map_err(encode)?;
+    w.finish().map_err(encode)?;
+    Ok(bytes)
+}
+
+/// A `.npz` archive (what `numpy.savez` writes): named `.npy` members in a
+/// zip, read back by `numpy.load(path)["name"]`.
+#[derive(Default)]
+pub struct NpzBuilder {
+    members: Vec<(String, Vec<u8>)>,
+}
+
+impl NpzBuilder {
+    /// An empty archive.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds array `name` (stored as `name.npy`).
+    ///
+    /// # Errors
+    /// As [`npy_bytes`].
+    pub fn array<T: NpyElement>(
+        &mut self,
+        name: &str,
+        shape: &[usize],
+        data: &[T],
+    ) -> Result<&mut Self, ScenarioError> {
+        self.members
+            .push((format!("{name}.npy"), npy_bytes(shape, data)?));
+        Ok(self)
+    }
+
+    /// The archive's bytes (members deflated).
+    ///
+    /// # Errors
+    /// [`ScenarioError::Encode`] if the zip cannot be written.
+    pub fn finish(&self) -> Result<Vec<u8>, ScenarioError> {
+        let encode = |e: &dyn std::fmt::Display| ScenarioError::Encode {
+            what: ".npz".into(),
+            message: e.to_string(),
+        };
+        let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated);
+        for (name, bytes) in &self.members {
+            zip.start_file(name.as_str(), options)
+                .map_err(|e| encode(&e))?;
+            zip.write_all(bytes).map_err(|e| encode(&e))?;
+        }
+        Ok(zip.finish().map_err(|e| encode(&e))?.into_inner())
+    }
+}
+
+/// A pressure field as `.npz`: `pressure` (Pa, shape `(ny, nx)`, so
+/// `pressure[j, i]` is the cell at `x[i]`, `y[j]`), `x` and `y` (cell
+/// centres, m), `origin` (`[x0, y0]`, the first cell's centre, m) and
+/// `spacing` (`[dx, dy]`, m).
+///
+/// # Errors
+/// As [`NpzBuilder`].
+pub fn pressure_field_npz(
+    field: &crate::two_scale::PressureField,
+) -> Result<Vec<u8>, ScenarioError> {
+    let g = &field.grid;
+    let x: Vec<f64> = (0..g.nx()).map(|i| g.x(i)).collect();
+    let y: Vec<f64> = (0..g.ny()).map(|j| g.y(j)).collect();
+    NpzBuilder::new()
+        .array("pressure", &[g.ny(), g.nx()], &field.pressure)?
+        .array("x", &[g.nx()], &x)?
+        .array("y", &[g.ny()], &y)?
+        .array("origin", &[2], &g.origin())?
+        .array("spacing", &[2], &[g.dx(), g.dy()])?
+        .finish()
+}
+
+/// A height map as `.npz`: `heights` (m, shape `(ny, nx)`, NaN where not
+/// measured; `heights[j, i]` is the point at `x = i·dx`, `y = j·dy`) and
+/// `spacing` (`[dx, dy]`, m). The `heights` member alone, saved as `.npy`,
+/// is what the texture reader takes back (`tyreroad_texture::io::npy`).
+///
+/// # Errors
+/// As [`NpzBuilder`].
+pub fn height_map_npz(map: &tyreroad_texture::HeightMap) -> Result<Vec<u8>, ScenarioError> {
+    NpzBuilder::new()
+        .array("heights", &[map.ny(), map.nx()], map.heights())?
+        .array("spacing", &[2], &[map.dx(), map.dy()])?
+        .finish()
+}
+
+/// The asperities of a rolled road as `.npz`: `ids` (the road's indices,
+/// `uint64`, shape `(n,)`), `positions` (m, shape `(n, 2)`: `x`, `y`) and
+/// `heights` (m, shape `(n,)`).
+///
+/// # Errors
+/// As [`NpzBuilder`].
+pub fn road_npz(positions: &[[f64; 2]], heights: &[f64]) -> Result<Vec<u8>, ScenarioError> {
+    let ids: Vec<u64> = (0..positions.len() as u64).collect();
+    let flat: Vec<f64> = positions.iter().flatten().copied().collect();
+    NpzBuilder::new()
+        .array("ids", &[ids.len()], &ids)?
+        .array("positions", &[positions.len(), 2], &flat)?
+        .array("heights", &[heights.len()], heights)?
+        .finish()
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize)]
+    struct Row {
+        #[serde(rename = "load_n", serialize_with = "fmt::plain")]
+        load: f64,
+        name: String,
+        #[serde(rename = "force_n", serialize_with = "fmt::sci9")]
+        force: f64,
+    }
+
+    #[test]
+    fn csv_rows_keep_their_formats_and_quote_names() {
+        let rows = [Row {
+            load: 50.0,
+            name: "a,b".into(),
+            force: 1.5,
+        }];
+        let text = String::from_utf8(csv_bytes(None, &rows).unwrap()).unwrap();
+        assert_eq!(text, "load_n,name,force_n\n50,\"a,b\",1.500000000e0\n");
+    }
+
+    #[test]
+    fn output_set_lands_whole_and_leaves_no_staging() {
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        let mut set = OutputSet::new(&dir).unwrap();
+        set.write("a.csv", b"one\n").unwrap();
+        assert!(!dir.join("a.csv").exists(), "nothing visible before commit");
+        let written = set.commit().unwrap();
+        assert_eq!(written, vec![dir.join("a.csv")]);
+        assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "one\n");
+        // A dropped set leaves the folder as it was.
+        let mut set = OutputSet::new(&dir).unwrap();
+        set.write("a.csv", b"two\n").unwrap();
+        drop(set);
+        assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "one\n");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn npy_round_trips_through_npyz() {
+        let bytes = npy_bytes(&[2, 3], &[1.0f64, 2.0, 3.0, 4.0, 5.0, 6.0]).unwrap();
+        let file = npyz::NpyFile::new(&bytes[..]).unwrap();
+        assert_eq!(file.shape(), &[2, 3]);
+        assert_eq!(
+            file.into_vec::<f64>().unwrap(),
+            vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+        );
+        assert!(npy_bytes(&[2, 2], &[1.0f64]).is_err());
+        let npz = NpzBuilder::new()
+            .array("x", &[1], &[0.5f64])
+            .unwrap()
+            .finish()
+            .unwrap();
+        let mut zip = zip::ZipArchive::new(Cursor::new(npz)).unwrap();
+        assert!(zip.by_name("x.npy").is_ok());
+    }
+}

@@ -1,0 +1,220 @@
+//! A `[rolling]` scenario: the road (a texture, the `[[asperity]]` list or a
+//! synthetic road of spheres), the run, and the spectra of its signals
+//! (docs/rolling.md).
+
+use std::path::Path;
+use std::time::Duration;
+
+use tyreroad_contact_law::{ContactLaw, Material};
+use tyreroad_multipoint::{AsperitySet, Par};
+use tyreroad_rolling as rolling;
+
+use super::texture::{TextureSummary, texture_road_set};
+use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+
+/// Where the rolled road came from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RoadSummary {
+    /// The scenario's `[texture]`, split into asperities.
+    Texture(TextureSummary),
+    /// The scenario's `[[asperity]]` list.
+    Asperities {
+        /// Number of asperities.
+        count: usize,
+    },
+    /// `[rolling.synthetic_road]`'s random spheres.
+    Synthetic {
+        /// Number of spherical summits.
+        count: usize,
+    },
+}
+
+/// The one-third-octave spectra of a rolling run.
+///
+/// The primary signal is the total force under displacement control (dB re
+/// the reference force) and the approach under load control (dB re 1 µm);
+/// sensors are always in dB re the reference force.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spectra {
+    /// Load control: the primary signal is the approach.
+    pub load_control: bool,
+    /// Reference force of the force levels (N).
+    pub reference_force: f64,
+    /// Reference of the primary signal (N or m).
+    pub primary_reference: f64,
+    /// Levels of the primary signal.
+    pub primary: Vec<rolling::BandLevel>,
+    /// Levels of each sensor's force, in sensor order.
+    pub sensors: Vec<Vec<rolling::BandLevel>>,
+    /// Welch segment length (samples).
+    pub segment: usize,
+    /// Lowest band centre (Hz) that the segment resolves: a Welch segment of
+    /// L samples resolves Δf = fs/L, and a band narrower than two bins (width
+    /// 0.23 f_c) holds leakage from its neighbours, not its own content.
+    pub resolved_from: f64,
+}
+
+impl Spectra {
+    /// Whether the lowest band lies below [`Spectra::resolved_from`].
+    pub fn has_unresolved_bands(&self) -> bool {
+        self.primary
+            .first()
+            .is_some_and(|b| b.band.centre < self.resolved_from)
+    }
+}
+
+/// A rolling run and what follows from it.
+#[derive(Clone, Debug)]
+pub struct RollingRun {
+    /// The road rolled on.
+    pub road: RoadSummary,
+    /// Summit positions `(x, y)` (m) of the road's asperities, in the
+    /// road's index order (the ids of the rolling crate).
+    pub road_positions: Vec<[f64; 2]>,
+    /// Summit heights (m), same order.
+    pub road_heights: Vec<f64>,
+    /// The configuration the spec described.
+    pub config: rolling::RollingConfig,
+    /// One record per step.
+    pub result: rolling::RollingResult,
+    /// The spectra of the signals.
+    pub spectra: Spectra,
+}
+
+impl RollingRun {
+    /// Steps where some contact patches overlap, and the largest number of
+    /// overlapping pairs at one step.
+    pub fn overlapping_steps(&self) -> (usize, usize) {
+        let steps = &self.result.steps;
+        (
+            steps.iter().filter(|s| s.overlapping > 0).count(),
+            steps.iter().map(|s| s.overlapping).max().unwrap_or(0),
+        )
+    }
+}
+
+/// Runs `[rolling]` on the scenario's road.
+pub(crate) fn run_rolling(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+) -> Result<RollingRun, ScenarioError> {
+    let material = scenario.material()?;
+    if let Some(texture) = &scenario.texture {
+        let (set, summary) = texture_road_set(texture, &options.base_dir, material)?;
+        return run_on(set, RoadSummary::Texture(summary), material, spec, options);
+    }
+    match (scenario.asperities.is_empty(), &spec.synthetic_road) {
+        (false, None) => {
+            let set = scenario.asperity_set()?;
+            let count = set.len();
+            run_on(
+                set,
+                RoadSummary::Asperities { count },
+                material,
+                spec,
+                options,
+            )
+        }
+        (true, Some(synth)) => {
+            let road = synth.road().sphere_road(material)?;
+            let count = road.len();
+            roll_road(
+                &road,
+                RoadSummary::Synthetic { count },
+                material,
+                spec,
+                options,
+            )
+        }
+        (false, Some(_)) => Err(ScenarioError::Invalid(
+            "[rolling.synthetic_road] and [[asperity]] both given: choose one".into(),
+        )),
+        (true, None) => Err(ScenarioError::Invalid(
+            "no road: give [[asperity]] entries or [rolling.synthetic_road]".into(),
+        )),
+    }
+}
+
+fn run_on<L: ContactLaw + Sync>(
+    set: AsperitySet<L>,
+    summary: RoadSummary,
+    material: Material,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+) -> Result<RollingRun, ScenarioError> {
+    let road = rolling::Road::new(set);
+    roll_road(&road, summary, material, spec, options)
+}
+
+fn roll_road<L: ContactLaw + Sync>(
+    road: &rolling::Road<L>,
+    summary: RoadSummary,
+    material: Material,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+) -> Result<RollingRun, ScenarioError> {
+    let config = spec.config()?;
+    let checkpoint = options
+        .checkpoint_dir
+        .as_deref()
+        .filter(|_| spec.checkpoint)
+        .map(|dir: &Path| rolling::CheckpointOptions {
+            dir: dir.to_path_buf(),
+            interval: Duration::from_secs(2),
+        });
+    // The caller's parallelism, else the scenario's `threads` (0 or unset:
+    // every core).
+    let par = options
+        .par
+        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+    let run_options = rolling::RunOptions {
+        chunks: spec.chunks,
+        checkpoint: checkpoint.as_ref(),
+        progress: options.progress,
+        par,
+    };
+    let result = rolling::roll(road, material, &config, &run_options)?;
+    let spectra = spectra(&config, spec, &result)?;
+    Ok(RollingRun {
+        road: summary,
+        road_positions: road.positions().to_vec(),
+        road_heights: road.heights().to_vec(),
+        config,
+        result,
+        spectra,
+    })
+}
+
+fn spectra(
+    config: &rolling::RollingConfig,
+    spec: &RollingSpec,
+    result: &rolling::RollingResult,
+) -> Result<Spectra, ScenarioError> {
+    let reference = spec.reference_force.map_or(1.0, |f| f.value());
+    let load_control = matches!(config.control, rolling::RollingControl::Load(_));
+    let (primary, primary_reference) = if load_control {
+        (result.approach(), 1e-6)
+    } else {
+        (result.total_force(), reference)
+    };
+    let fs = result.sample_rate;
+    let spectrum = |signal: &[f64], r: f64| rolling::third_octave(signal, fs, r, spec.segment);
+    let levels = spectrum(&primary, primary_reference)?;
+    let segment = spec
+        .segment
+        .unwrap_or_else(|| rolling::default_segment_len(primary.len()));
+    let resolved_from = 2.0 * fs / segment as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
+    let sensors = (0..config.sensors.len())
+        .map(|k| spectrum(&result.sensor(k), reference))
+        .collect::<Result<_, _>>()?;
+    Ok(Spectra {
+        load_control,
+        reference_force: reference,
+        primary_reference,
+        primary: levels,
+        sensors,
+        segment,
+        resolved_from,
+    })
+}

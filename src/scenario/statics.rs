@@ -1,0 +1,189 @@
+//! Static multipoint runs: a problem solved at each load of `[static]`.
+
+use std::time::Instant;
+
+use tyreroad_contact_law::{ContactLaw, LocalContact};
+use tyreroad_multipoint::{Control, Problem, SolverOptions, overlapping_contacts, solve};
+
+use super::{Scenario, ScenarioError};
+
+/// One asperity at one load.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct StaticRow {
+    /// Imposed total load (N).
+    pub load: f64,
+    /// Asperity label.
+    pub id: u32,
+    /// Summit x (m).
+    pub x: f64,
+    /// Summit y (m).
+    pub y: f64,
+    /// Force (N).
+    pub force: f64,
+    /// Local contact radius (m).
+    pub radius: f64,
+}
+
+/// What one load's solve reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadRun {
+    /// Imposed load (N).
+    pub load: f64,
+    /// Σ P_i (N).
+    pub total: f64,
+    /// Approach δ0 (m).
+    pub approach: f64,
+    /// Asperities in contact.
+    pub contacts: usize,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Final relative residual.
+    pub residual: f64,
+    /// Wall time of the solve (s).
+    pub seconds: f64,
+    /// Pairs of loaded asperities whose local contacts overlap, where the
+    /// model's point-force coupling no longer holds
+    /// (`tyreroad_multipoint::overlapping_contacts`).
+    pub overlapping: usize,
+}
+
+/// A static run: per-asperity rows (load-major, asperity order within a
+/// load) and one report per load.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticResult {
+    /// The scenario's name.
+    pub name: String,
+    /// One row per asperity and load.
+    pub rows: Vec<StaticRow>,
+    /// One report per load, in the order of `[static] loads`.
+    pub runs: Vec<LoadRun>,
+}
+
+impl StaticResult {
+    /// The distinct loads, in order of appearance.
+    pub fn loads(&self) -> Vec<f64> {
+        loads(&self.rows)
+    }
+
+    /// The rows at `load`, in asperity order.
+    pub fn at_load(&self, load: f64) -> Vec<&StaticRow> {
+        self.rows.iter().filter(|r| r.load == load).collect()
+    }
+}
+
+/// The `[static]` loads of a scenario (N), checked to be non-empty.
+pub(crate) fn static_loads(scenario: &Scenario) -> Result<Vec<f64>, ScenarioError> {
+    let Some(spec) = &scenario.static_case else {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: no [static] section to solve",
+            scenario.name
+        )));
+    };
+    if spec.loads.is_empty() {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: [static] loads is empty",
+            scenario.name
+        )));
+    }
+    Ok(spec.loads.iter().map(|l| l.value()).collect())
+}
+
+/// Solves the scenario's `[static]` loads on its `[[asperity]]` list.
+///
+/// # Errors
+/// No `[static]` section or no load, an invalid material or shape, a failed
+/// solve.
+pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
+    let loads = static_loads(scenario)?;
+    let problem = scenario.problem()?;
+    let solved = run_static_problem(
+        &scenario.name,
+        &problem,
+        &scenario.ids(),
+        &loads,
+        &scenario.solver_options(),
+    )?;
+    Ok(solved.result)
+}
+
+/// A static run with each load's local contacts (for pressure maps).
+#[derive(Clone, Debug)]
+pub struct StaticSolve {
+    /// Rows and per-load reports.
+    pub result: StaticResult,
+    /// Each load's local contacts, in asperity order.
+    pub local_contacts: Vec<Vec<LocalContact>>,
+}
+
+/// Solves a prepared problem at each of `loads` (N); `ids[k]` labels
+/// asperity `k`.
+///
+/// # Errors
+/// As many ids as asperities are needed; a failed solve names its load.
+pub fn run_static_problem<L: ContactLaw + Sync>(
+    name: &str,
+    problem: &Problem<L>,
+    ids: &[u32],
+    loads: &[f64],
+    options: &SolverOptions,
+) -> Result<StaticSolve, ScenarioError> {
+    if ids.len() != problem.len() {
+        return Err(ScenarioError::Invalid(format!(
+            "{name}: {} ids for {} asperities",
+            ids.len(),
+            problem.len()
+        )));
+    }
+    let (mut rows, mut runs, mut locals) = (Vec::new(), Vec::new(), Vec::new());
+    for &load in loads {
+        let start = Instant::now();
+        let s = solve(problem, Control::Load(load), options).map_err(|source| {
+            ScenarioError::Solve {
+                context: format!("solving {name} at {load} N"),
+                source,
+            }
+        })?;
+        let seconds = start.elapsed().as_secs_f64();
+        let contacts = s.local_contacts(problem);
+        for (k, (&[x, y], c)) in problem.positions().iter().zip(&contacts).enumerate() {
+            rows.push(StaticRow {
+                load,
+                id: ids[k],
+                x,
+                y,
+                force: s.forces[k],
+                radius: c.radius,
+            });
+        }
+        runs.push(LoadRun {
+            load,
+            total: s.total_force(),
+            approach: s.approach,
+            contacts: s.contact_count(),
+            iterations: s.iterations,
+            residual: s.residual,
+            seconds,
+            overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
+        });
+        locals.push(contacts);
+    }
+    Ok(StaticSolve {
+        result: StaticResult {
+            name: name.into(),
+            rows,
+            runs,
+        },
+        local_contacts: locals,
+    })
+}
+
+/// The distinct loads of `rows`, in order of appearance.
+pub fn loads(rows: &[StaticRow]) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::new();
+    for r in rows {
+        if !out.contains(&r.load) {
+            out.push(r.load);
+        }
+    }
+    out
+}

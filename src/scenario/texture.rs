@@ -1,0 +1,163 @@
+//! A `[texture]` scenario: the height map split into asperities
+//! ([`crate::texture_road`]), solved at the `[static]` loads, and each
+//! load's contact rebuilt on the asperities' real surfaces
+//! ([`crate::two_scale`]).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use tyreroad_contact_law::Material;
+use tyreroad_multipoint::{AsperitySet, Problem};
+use tyreroad_texture::HeightMap;
+
+use super::statics::{StaticResult, run_static_problem, static_loads};
+use super::{Scenario, ScenarioError, TextureSpec};
+use crate::texture_road::{TextureLaw, TextureRoad, texture_road};
+use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
+
+/// What the segmentation made of a height map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureSummary {
+    /// Points along x and y.
+    pub size: (usize, usize),
+    /// Grid spacing along x and y (m).
+    pub spacing: (f64, f64),
+    /// Extent along x and y (m).
+    pub extent: (f64, f64),
+    /// Sq (m), NaN when the map has no valid point.
+    pub rms: f64,
+    /// Asperities kept (with a depth range).
+    pub asperities: usize,
+    /// Asperities the segmentation found.
+    pub segmented: usize,
+}
+
+impl TextureSummary {
+    fn new(map: &HeightMap, road: &TextureRoad) -> Self {
+        Self {
+            size: (map.nx(), map.ny()),
+            spacing: (map.dx(), map.dy()),
+            extent: (map.length_x(), map.length_y()),
+            rms: map.rms().unwrap_or(f64::NAN),
+            asperities: road.len(),
+            segmented: road.segmentation.asperities().len(),
+        }
+    }
+}
+
+/// One load of a texture run: the two-scale rebuild of its contacts.
+#[derive(Clone, Debug)]
+pub struct TextureLoad {
+    /// Imposed load (N).
+    pub load: f64,
+    /// Local fields (one per asperity, asperity order) and the assembled
+    /// pressure map at the texture's grid spacing.
+    pub two_scale: TwoScale,
+}
+
+/// A static run on a texture.
+#[derive(Clone, Debug)]
+pub struct TextureResult {
+    /// The height map the asperities were taken from.
+    pub map: Arc<HeightMap>,
+    /// The texture and its segmentation.
+    pub texture: TextureSummary,
+    /// Multipoint rows (indenter = asperity index + 1, highest summit first;
+    /// the radius is the half-section rule's) and per-load reports.
+    pub statics: StaticResult,
+    /// The two-scale rebuild of each load, in load order.
+    pub loads: Vec<TextureLoad>,
+}
+
+impl TextureResult {
+    /// Asperity labels, 1-based in the segmentation's order.
+    pub fn ids(&self) -> Vec<u32> {
+        (1..=self.texture.asperities as u32).collect()
+    }
+}
+
+/// Runs a scenario's `[static]` loads on its `[texture]`; `base_dir` is
+/// where `[texture] file` is resolved.
+pub(crate) fn run_texture_static(
+    scenario: &Scenario,
+    base_dir: &Path,
+) -> Result<TextureResult, ScenarioError> {
+    let Some(texture) = &scenario.texture else {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: needs [texture] and [static]",
+            scenario.name
+        )));
+    };
+    let loads = static_loads(scenario)?;
+    let map = Arc::new(texture.height_map(base_dir)?);
+    let material = scenario.material()?;
+    let road = texture_road(&map, material, &texture.road_options())?;
+    let summary = TextureSummary::new(&map, &road);
+    let shapes = road.local_shapes(&map)?;
+    let positions = road.set.positions().to_vec();
+    let ids: Vec<u32> = (1..=road.len() as u32).collect();
+    let problem = Problem::from_set(road.set, material).map_err(|source| ScenarioError::Solve {
+        context: "[texture] asperities".into(),
+        source,
+    })?;
+    let solved = run_static_problem(
+        &scenario.name,
+        &problem,
+        &ids,
+        &loads,
+        &scenario.solver_options(),
+    )?;
+    let options = TwoScaleOptions {
+        map_cell: Some(map.dx().min(map.dy())),
+        ..TwoScaleOptions::default()
+    };
+    let statics = solved.result;
+    let mut per_load = Vec::with_capacity(statics.runs.len());
+    for r in &statics.runs {
+        let forces: Vec<f64> = statics
+            .at_load(r.load)
+            .iter()
+            .map(|row| row.force)
+            .collect();
+        let ts =
+            two_scale(&positions, &forces, &shapes, &material, &options).map_err(|source| {
+                ScenarioError::TwoScale {
+                    context: format!("two-scale pressure map at {} N", r.load),
+                    source,
+                }
+            })?;
+        per_load.push(TextureLoad {
+            load: r.load,
+            two_scale: ts,
+        });
+    }
+    Ok(TextureResult {
+        map,
+        texture: summary,
+        statics,
+        loads: per_load,
+    })
+}
+
+/// The road of a `[texture]` rolling scenario: the texture's asperities with
+/// x along the map's x from its first column and y centred on the map's
+/// mid-width, so a path at `lateral = 0` runs down the middle of the
+/// texture.
+pub(crate) fn texture_road_set(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+) -> Result<(AsperitySet<TextureLaw>, TextureSummary), ScenarioError> {
+    let map = texture.height_map(base_dir)?;
+    let road = texture_road(&map, material, &texture.road_options())?;
+    let summary = TextureSummary::new(&map, &road);
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let set = road
+        .set
+        .translated([0.0, -y_mid])
+        .map_err(|source| ScenarioError::Solve {
+            context: "[texture] road".into(),
+            source,
+        })?;
+    Ok((set, summary))
+}
