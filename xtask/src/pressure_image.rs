@@ -133,8 +133,8 @@ pub fn render(map: &PressureField, title: &str) -> RgbImage {
     const BAR_W: u32 = 20;
     let white = Rgb([255, 255, 255]);
     let black = Rgb([0, 0, 0]);
-    let (nx, ny) = (map.grid.nx() as u32, map.grid.ny() as u32);
-    let p_max = map.max_pressure().max(f64::MIN_POSITIVE);
+    let (nx, ny) = (map.grid().nx() as u32, map.grid().ny() as u32);
+    let p_max = map.max().max(f64::MIN_POSITIVE);
     let top = MARGIN + 7 * SCALE + 8;
     let bar_x = MARGIN + nx + 24;
     let label_x = bar_x + BAR_W + 8;
@@ -144,7 +144,7 @@ pub fn render(map: &PressureField, title: &str) -> RgbImage {
 
     for j in 0..ny {
         for i in 0..nx {
-            let p = map.pressure[(j * nx + i) as usize];
+            let p = map.values()[(j * nx + i) as usize];
             let c = if p > 0.0 { viridis(p / p_max) } else { white };
             img.put_pixel(MARGIN + i, top + (ny - 1 - j), c);
         }
@@ -157,7 +157,7 @@ pub fn render(map: &PressureField, title: &str) -> RgbImage {
     draw_text(&mut img, title, MARGIN, MARGIN, SCALE, black);
 
     // 10 mm scale bar under the map.
-    let ten_mm = (0.01 / map.grid.dx()).round() as u32;
+    let ten_mm = (0.01 / map.grid().dx()).round() as u32;
     if ten_mm + 2 < nx {
         let y = top + ny + 8;
         fill(&mut img, MARGIN, y, ten_mm, SCALE, black);

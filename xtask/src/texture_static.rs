@@ -126,8 +126,8 @@ pub fn run_texture_static(scenario: &Scenario, base_dir: &Path, out: &Path) -> R
             println!(
                 "  two-scale: contact area {:.2} mm², peak {:.2} MPa, map Σ p dA = {:.6} N",
                 area * 1e6,
-                field.max_pressure() * 1e-6,
-                field.force()
+                field.max() * 1e-6,
+                field.integral()
             );
             let path = out.join(format!("{}_pressure_{}N.png", scenario.name, r.load));
             write_pressure_png(&path, field, &format!("{} N", r.load))?;

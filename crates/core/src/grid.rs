@@ -357,7 +357,11 @@ mod tests {
         assert!(Grid::new(4, 4, 0.0, 1.0).is_err());
         assert!(Grid::new(4, 4, 1.0, f64::INFINITY).is_err());
         assert!(Grid::new(usize::MAX, 4, 1.0, 1.0).is_err());
-        assert!(Grid::new(4, 4, 1.0, 1.0).and_then(|g| g.with_origin([f64::NAN, 0.0])).is_err());
+        assert!(
+            Grid::new(4, 4, 1.0, 1.0)
+                .and_then(|g| g.with_origin([f64::NAN, 0.0]))
+                .is_err()
+        );
         let g = Grid::centered(5, 4, 1.0, 2.0).expect("valid");
         assert_eq!(g.x(2), 0.0);
         assert_eq!(g.y(0), -3.0);
@@ -374,7 +378,8 @@ mod tests {
         assert!(Field::new(g.clone(), vec![0.0; 5]).is_err());
         let e = Field::new(g.clone(), vec![0.0, 1.0, 2.0, 3.0, f64::NAN, 5.0]).expect_err("NaN");
         assert!(e.to_string().contains("(1, 1)"), "{e}");
-        let f = Field::from_nan(g.clone(), vec![1.0, f64::NAN, 3.0, 4.0, 0.0, -2.0]).expect("masked");
+        let f =
+            Field::from_nan(g.clone(), vec![1.0, f64::NAN, 3.0, 4.0, 0.0, -2.0]).expect("masked");
         assert_eq!(f.valid_count(), 5);
         assert_eq!(f.get(1, 0), None);
         assert_eq!(f.get(2, 1), Some(-2.0));

@@ -149,7 +149,11 @@ mod tests {
         // End rule: (2·1 + 1)·1 − 1·0)/2 = 1.5; plateau interior slopes 0.
         assert_eq!(d, vec![1.5, 0.0, 0.0, -1.5]);
         // A steep prescribed first slope is pulled into α² + β² ≤ 9.
-        let d = pchip_slopes(&[0.0, 1.0, 2.0], &[0.0, 1.0, 2.0], PchipRule::PrescribedFirst(10.0));
+        let d = pchip_slopes(
+            &[0.0, 1.0, 2.0],
+            &[0.0, 1.0, 2.0],
+            PchipRule::PrescribedFirst(10.0),
+        );
         let tau = 3.0 / 101f64.sqrt();
         assert_eq!(d, vec![10.0 * tau, tau, 1.0]);
         assert!(pchip_slopes(&[0.0], &[1.0], PchipRule::HarmonicMean) == vec![0.0]);

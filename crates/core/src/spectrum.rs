@@ -203,11 +203,7 @@ pub struct BandLevel {
 
 /// One-third-octave levels of a PSD over `bands`, in dB re `reference`
 /// (1 N for forces): `L = 10 log10(P_band / ref²)`.
-pub fn band_levels(
-    psd: &Psd,
-    bands: &[Band],
-    reference: f64,
-) -> Result<Vec<BandLevel>, CoreError> {
+pub fn band_levels(psd: &Psd, bands: &[Band], reference: f64) -> Result<Vec<BandLevel>, CoreError> {
     positive("reference level", reference)?;
     Ok(bands
         .iter()
