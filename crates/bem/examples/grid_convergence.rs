@@ -1,6 +1,6 @@
 //! Grid convergence of the per-ball forces on the 25-ball experiment of
-//! DESIGN §2.6 (25 steel balls R = 5 mm at 10 mm pitch, coplanar summits,
-//! E = 6.54 MPa, ν = 0.5) at 500 N.
+//! Cesbron et al. (2006, section 3: 25 steel balls R = 5 mm at 10 mm pitch,
+//! coplanar summits, E = 6.54 MPa, ν = 0.5) at 500 N.
 //!
 //! ```text
 //! cargo run --release -p tyreroad-bem --example grid_convergence [-- --fine]

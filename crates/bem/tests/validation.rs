@@ -428,7 +428,8 @@ fn periodic_array_matches_one_cell() {
 
 #[test]
 fn twenty_five_balls_coarse_forces_are_symmetric() {
-    // The DESIGN §2.6 experiment on a coarse grid (0.5 mm cells).
+    // The 25-ball experiment of Cesbron et al. (2006, section 3) on a
+    // coarse grid (0.5 mm cells).
     let dx = 5e-4;
     let grid = Grid::centered(108, 108, dx, dx).unwrap();
     let pos = [-0.02, -0.01, 0.0, 0.01, 0.02];
