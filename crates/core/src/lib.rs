@@ -17,8 +17,8 @@
 //! `nx × ny` cells of `dx × dy`, cell `(i, j)` centred at
 //! `origin + (i·dx, j·dy)` (y up), values stored row-major at `j·nx + i`.
 //! Invariants: sizes ≥ 1, at most [`MAX_CELLS`] cells, spacings finite and
-//! > 0, origin finite; a field has one value per cell, finite where valid,
-//! NaN where its optional mask says invalid.
+//! positive, origin finite; a field has one value per cell, finite where
+//! valid, NaN where its optional mask says invalid.
 //!
 //! # Spectra ([`spectrum`])
 //!
