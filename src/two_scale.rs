@@ -47,6 +47,8 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use tyreroad_core::{Field, Par, is_parallel, run_at};
+
 use crate::bem::{self, BemError, BemOptions, Grid, HeightMap};
 use crate::contact_law::Material;
 use crate::multipoint::{ContactLaw, Problem, Solution};
@@ -170,13 +172,15 @@ pub struct TwoScaleOptions {
     /// Largest number of cells of the global map (a guard against a map cell
     /// far smaller than the patch). Default `16 · 2²⁰`.
     pub max_map_cells: usize,
-    /// Local BEM solver options (`parallel` is ignored when
-    /// [`TwoScaleOptions::parallel`] spreads the asperities over rayon).
+    /// Local BEM solver options (`par` is ignored when
+    /// [`TwoScaleOptions::par`] spreads the asperities over rayon).
     /// Default: tolerance `1e-8`.
     pub bem: BemOptions,
-    /// Solve the asperities in parallel on rayon's current pool. Default
-    /// `true`.
-    pub parallel: bool,
+    /// Parallelism over the asperities: [`Par::Seq`] solves them one after
+    /// the other (each local solve at `bem.par`), `Par::rayon(n)` spreads
+    /// them over a rayon pool of `n` threads (the current pool when it has
+    /// `n` threads). Default `Par::rayon(0)`: rayon's current pool.
+    pub par: Par,
 }
 
 impl Default for TwoScaleOptions {
@@ -187,36 +191,16 @@ impl Default for TwoScaleOptions {
             map_cell: None,
             max_map_cells: 16 << 20,
             bem: BemOptions::default(),
-            parallel: true,
+            par: Par::rayon(0),
         }
     }
 }
 
-/// A pressure field (Pa) on a regular grid, row-major (`j · nx + i`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PressureField {
-    /// The grid (cell centres at `origin + (i dx, j dy)`).
-    pub grid: Grid,
-    /// Pressure per cell (Pa, ≥ 0).
-    pub pressure: Vec<f64>,
-}
-
-impl PressureField {
-    /// Σ p dx dy (N).
-    pub fn force(&self) -> f64 {
-        self.pressure.iter().sum::<f64>() * self.grid.cell_area()
-    }
-
-    /// Largest pressure (Pa).
-    pub fn max_pressure(&self) -> f64 {
-        self.pressure.iter().copied().fold(0.0, f64::max)
-    }
-
-    /// Area of the cells with `p > 0` (m²).
-    pub fn contact_area(&self) -> f64 {
-        self.pressure.iter().filter(|&&p| p > 0.0).count() as f64 * self.grid.cell_area()
-    }
-}
+/// A pressure field (Pa, ≥ 0) on a regular grid, row-major (`j · nx + i`,
+/// cell centres at `origin + (i dx, j dy)`): the core's [`Field`], whose
+/// [`Field::integral`] is the force (N), [`Field::max`] the peak pressure
+/// and [`Field::positive_area`] the contact area.
+pub type PressureField = Field;
 
 /// The rebuilt local contact of one asperity.
 #[derive(Debug, Clone, PartialEq)]
@@ -395,32 +379,31 @@ pub fn two_scale(
             &shapes[k]
         }
     };
-    let bem_material = bem::Material::new(material.youngs_modulus(), material.poisson_ratio())
-        .map_err(|e| TwoScaleError::InvalidInput(e.to_string()))?;
-
-    let local: Vec<LocalField> = if options.parallel {
+    let local: Vec<LocalField> = if is_parallel(options.par) {
         let bem_options = BemOptions {
-            parallel: false,
+            par: Par::Seq,
             ..options.bem.clone()
         };
-        (0..n)
-            .into_par_iter()
-            .map_init(
-                || None,
-                |cache, k| {
-                    solve_local(
-                        k,
-                        positions[k],
-                        forces[k],
-                        shape(k),
-                        &bem_material,
-                        &bem_options,
-                        options,
-                        cache,
-                    )
-                },
-            )
-            .collect::<Result<_, _>>()?
+        run_at(options.par, || {
+            (0..n)
+                .into_par_iter()
+                .map_init(
+                    || None,
+                    |cache, k| {
+                        solve_local(
+                            k,
+                            positions[k],
+                            forces[k],
+                            shape(k),
+                            material,
+                            &bem_options,
+                            options,
+                            cache,
+                        )
+                    },
+                )
+                .collect::<Result<_, _>>()
+        })?
     } else {
         let mut cache = None;
         (0..n)
@@ -430,7 +413,7 @@ pub fn two_scale(
                     positions[k],
                     forces[k],
                     shape(k),
-                    &bem_material,
+                    material,
                     &options.bem,
                     options,
                     &mut cache,
@@ -454,12 +437,13 @@ fn solve_local(
     centre: [f64; 2],
     force: f64,
     shape: &LocalShape,
-    material: &bem::Material,
+    material: &Material,
     bem_options: &BemOptions,
     options: &TwoScaleOptions,
     cache: &mut Option<bem::Solver>,
 ) -> Result<LocalField, TwoScaleError> {
-    let hertz_radius = (3.0 * force * shape.equivalent_radius() / (4.0 * material.e_star())).cbrt();
+    let hertz_radius =
+        (3.0 * force * shape.equivalent_radius() / (4.0 * material.reduced_modulus())).cbrt();
     if force == 0.0 {
         return Ok(LocalField {
             centre,
@@ -474,14 +458,15 @@ fn solve_local(
             field: None,
         });
     }
-    let bem_err = |source| TwoScaleError::Bem { index, source };
+    let bem_err = |source: BemError| TwoScaleError::Bem { index, source };
     // Real cell size; the scale s maps the real problem onto the canonical one.
     let cell = 2.0 * hertz_radius / options.cells_across as f64;
     let s = cell / CANONICAL_CELL;
     let mut half_width = options.half_width;
     for _ in 0..=MAX_WIDENINGS {
         let m = local_cells(half_width, options.cells_across);
-        let canonical = Grid::centered(m, m, CANONICAL_CELL, CANONICAL_CELL).map_err(bem_err)?;
+        let canonical =
+            Grid::centered(m, m, CANONICAL_CELL, CANONICAL_CELL).map_err(|e| bem_err(e.into()))?;
         let reuse = cache.as_ref().is_some_and(|c| c.grid().nx() == m);
         if !reuse {
             *cache = Some(bem::Solver::new(&canonical, material, bem_options).map_err(bem_err)?);
@@ -490,7 +475,7 @@ fn solve_local(
             .as_mut()
             .ok_or_else(|| TwoScaleError::InvalidInput("no local solver".into()))?;
         let surface = HeightMap::from_fn(canonical.clone(), |x, y| shape.height(x * s, y * s) / s)
-            .map_err(bem_err)?;
+            .map_err(|e| bem_err(e.into()))?;
         let sol = solver
             .solve(&surface, bem::Control::Load(force / (s * s)))
             .map_err(bem_err)?;
@@ -513,14 +498,11 @@ fn solve_local(
         let half = (m / 2) as f64 * cell;
         let grid = Grid::new(m, m, cell, cell)
             .and_then(|g| g.with_origin([centre[0] - half, centre[1] - half]))
-            .map_err(bem_err)?;
-        let field = PressureField {
-            grid,
-            pressure: sol.pressure,
-        };
+            .map_err(|e| bem_err(e.into()))?;
+        let field = Field::new(grid, sol.pressure).map_err(|e| bem_err(e.into()))?;
         return Ok(LocalField {
             centre,
-            force: field.force(),
+            force: field.integral(),
             radius: region.equivalent_radius * s,
             semi_axes: [region.semi_axes[0] * s, region.semi_axes[1] * s],
             contact_area: region.contact_area * s * s,
@@ -548,7 +530,7 @@ fn assemble(
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut cell_sizes = Vec::with_capacity(fields.len());
     for f in &fields {
-        let g = &f.grid;
+        let g = f.grid();
         let o = g.origin();
         lo[0] = lo[0].min(o[0] - 0.5 * g.dx());
         lo[1] = lo[1].min(o[1] - 0.5 * g.dy());
@@ -575,11 +557,11 @@ fn assemble(
     let mut ox = Vec::new();
     let mut oy = Vec::new();
     for f in &fields {
-        let g = &f.grid;
+        let g = f.grid();
         let (dx, dy) = (g.dx(), g.dy());
         for j in 0..g.ny() {
             let yc = g.y(j);
-            let row = &f.pressure[j * g.nx()..(j + 1) * g.nx()];
+            let row = f.row(j);
             if row.iter().all(|&p| p == 0.0) {
                 continue;
             }
@@ -600,7 +582,9 @@ fn assemble(
     }
     let area = h * h;
     let pressure = force.into_iter().map(|f| f / area).collect();
-    Ok(Some(PressureField { grid, pressure }))
+    Field::new(grid, pressure)
+        .map(Some)
+        .map_err(|e| TwoScaleError::InvalidInput(e.to_string()))
 }
 
 /// Lengths of overlap of `[a, b]` with the cells `[lo + k h, lo + (k+1) h]`,

@@ -66,10 +66,10 @@ fn bem_grid(balls: &[Ball], cell: f64) -> Result<Grid, tyreroad_bem::BemError> {
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
     let n = |a: usize| 2 * ((0.5 * (hi[a] - lo[a]) / cell).ceil() as usize) + 1;
     let (nx, ny) = (n(0), n(1));
-    Grid::new(nx, ny, cell, cell)?.with_origin([
+    Ok(Grid::new(nx, ny, cell, cell)?.with_origin([
         centre[0] - (nx / 2) as f64 * cell,
         centre[1] - (ny / 2) as f64 * cell,
-    ])
+    ])?)
 }
 
 /// One load of the BEM reference.
@@ -143,9 +143,6 @@ pub fn bem_comparison(
         let context = context.to_string();
         move |source| ScenarioError::Bem { context, source }
     };
-    let bem_material =
-        tyreroad_bem::Material::new(material.youngs_modulus(), material.poisson_ratio())
-            .map_err(bem_error("[material]"))?;
     let positions: Vec<[f64; 2]> = balls.iter().map(|b| b.position).collect();
     let load_list = statics.loads();
     let n = balls.len();
@@ -174,8 +171,8 @@ pub fn bem_comparison(
         .collect();
     let surface = spherical_caps(&grid, &spheres, base).map_err(bem_error("BEM surface"))?;
     let labels = nearest_labels(&grid, &positions);
-    let mut solver = Solver::new(&grid, &bem_material, &BemOptions::default())
-        .map_err(bem_error("BEM solver"))?;
+    let mut solver =
+        Solver::new(&grid, &material, &BemOptions::default()).map_err(bem_error("BEM solver"))?;
     let setup_seconds = start.elapsed().as_secs_f64();
     let mut order = load_list.clone();
     order.sort_by(f64::total_cmp);

@@ -31,6 +31,14 @@ pub enum ScenarioError {
     /// unsupported (the message names the section).
     #[error("{0}")]
     Invalid(String),
+    /// A value of the shared core (material, grid, spectrum) is out of range.
+    #[error("{context}: {source}")]
+    Core {
+        /// Section or output.
+        context: String,
+        /// The core error.
+        source: tyreroad_core::CoreError,
+    },
     /// A material, shape or law is out of range.
     #[error("{context}: {source}")]
     Law {

@@ -331,11 +331,11 @@ impl NpzBuilder {
 pub fn pressure_field_npz(
     field: &crate::two_scale::PressureField,
 ) -> Result<Vec<u8>, ScenarioError> {
-    let g = &field.grid;
+    let g = field.grid();
     let x: Vec<f64> = (0..g.nx()).map(|i| g.x(i)).collect();
     let y: Vec<f64> = (0..g.ny()).map(|j| g.y(j)).collect();
     NpzBuilder::new()
-        .array("pressure", &[g.ny(), g.nx()], &field.pressure)?
+        .array("pressure", &[g.ny(), g.nx()], field.values())?
         .array("x", &[g.nx()], &x)?
         .array("y", &[g.ny()], &y)?
         .array("origin", &[2], &g.origin())?

@@ -199,7 +199,12 @@ fn spectra(
         (result.total_force(), reference)
     };
     let fs = result.sample_rate;
-    let spectrum = |signal: &[f64], r: f64| rolling::third_octave(signal, fs, r, spec.segment);
+    let spectrum = |signal: &[f64], r: f64| {
+        rolling::third_octave(signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
+            context: "one-third-octave spectrum".into(),
+            source,
+        })
+    };
     let levels = spectrum(&primary, primary_reference)?;
     let segment = spec
         .segment

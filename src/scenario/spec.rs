@@ -331,7 +331,7 @@ impl Scenario {
             self.material.youngs_modulus.value(),
             self.material.poisson_ratio,
         )
-        .map_err(|source| ScenarioError::Law {
+        .map_err(|source| ScenarioError::Core {
             context: "[material]".into(),
             source,
         })

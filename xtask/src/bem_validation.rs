@@ -88,7 +88,7 @@ pub fn run(
             ),
         });
         let bem_total: f64 = b.forces.iter().sum();
-        let map_total = ts.map.as_ref().map_or(0.0, |m| m.force());
+        let map_total = ts.map.as_ref().map_or(0.0, |m| m.integral());
         let balance = ((bem_total - load) / load)
             .abs()
             .max(((map_total - load) / load).abs());

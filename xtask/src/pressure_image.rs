@@ -70,8 +70,8 @@ const TEXT_PX: i32 = 14;
 /// the top left, and a 10 mm scale bar. Returns `(width, height, pixels)`.
 pub fn render(map: &PressureField, title: &str) -> Result<(u32, u32, Vec<u8>)> {
     register_font()?;
-    let (nx, ny) = (map.grid.nx() as i32, map.grid.ny() as i32);
-    let p_max = map.max_pressure().max(f64::MIN_POSITIVE);
+    let (nx, ny) = (map.grid().nx() as i32, map.grid().ny() as i32);
+    let p_max = map.max().max(f64::MIN_POSITIVE);
     let top = MARGIN + TEXT_PX + 8;
     let bar_x = MARGIN + nx + 24;
     let label_x = bar_x + BAR_W + 8;
@@ -84,7 +84,7 @@ pub fn render(map: &PressureField, title: &str) -> Result<(u32, u32, Vec<u8>)> {
         let font = ("sans-serif", TEXT_PX).into_font().color(&BLACK);
         for j in 0..ny {
             for i in 0..nx {
-                let p = map.pressure[(j * nx + i) as usize];
+                let p = map.values()[(j * nx + i) as usize];
                 if p > 0.0 {
                     root.draw_pixel((MARGIN + i, top + (ny - 1 - j)), &viridis(p / p_max))
                         .map_err(e)?;
@@ -104,7 +104,7 @@ pub fn render(map: &PressureField, title: &str) -> Result<(u32, u32, Vec<u8>)> {
         .map_err(e)?;
 
         // 10 mm scale bar under the map.
-        let ten_mm = (0.01 / map.grid.dx()).round() as i32;
+        let ten_mm = (0.01 / map.grid().dx()).round() as i32;
         if ten_mm + 2 < nx {
             let y = top + ny + 8;
             root.draw(&Rectangle::new(

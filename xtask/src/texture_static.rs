@@ -113,8 +113,8 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
             println!(
                 "  two-scale: contact area {:.2} mm², peak {:.2} MPa, map Σ p dA = {:.6} N",
                 area * 1e6,
-                field.max_pressure() * 1e-6,
-                field.force()
+                field.max() * 1e-6,
+                field.integral()
             );
             let stem = format!("{name}_pressure_{}N", run.load);
             write_pressure_png(

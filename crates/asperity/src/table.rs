@@ -2,6 +2,7 @@
 //! for fast evaluation inside the Newton solver.
 
 use crate::{CapGeometry, CapMeasures, GeometryError};
+use tyreroad_core::{PchipRule, pchip_slopes};
 
 /// Samples of cap measures on an increasing grid of depths: the serialised
 /// form of a [`TabulatedCap`].
@@ -240,8 +241,16 @@ impl TabulatedCap {
         let mut p = (s0 * d0 / o0 - 1.0).max(0.0);
         let (g0, g1, d1) = (table.perimeter[0], table.perimeter[1], table.depth[1]);
         let mut q = ((g1 / g0).ln() / (d1 / d0).ln()).max(0.0);
-        let d_area = pchip_slopes(&table.depth, &table.base_area, p * s0 / d0);
-        let d_perimeter = pchip_slopes(&table.depth, &table.perimeter, q * g0 / d0);
+        let d_area = pchip_slopes(
+            &table.depth,
+            &table.base_area,
+            PchipRule::PrescribedFirst(p * s0 / d0),
+        );
+        let d_perimeter = pchip_slopes(
+            &table.depth,
+            &table.perimeter,
+            PchipRule::PrescribedFirst(q * g0 / d0),
+        );
         // When the limiter lowered the slope at δ₀, lower the exponent to
         // match: the onset then stays C¹ (a law's force contains Σ' and Γ',
         // so a slope jump would be a force jump), at the price of Ω(δ₀)
@@ -486,53 +495,4 @@ fn hermite_integral(u: f64, h: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> f64 {
         + m0 * (u4 / 4.0 - 2.0 * u3 / 3.0 + u2 / 2.0)
         + y1 * (u3 - u4 / 2.0)
         + m1 * (u4 / 4.0 - u3 / 3.0))
-}
-
-/// Fritsch–Carlson monotone slopes at the nodes, with slope `first` imposed
-/// at node 0 (before limiting).
-fn pchip_slopes(x: &[f64], y: &[f64], first: f64) -> Vec<f64> {
-    let n = x.len();
-    let h: Vec<f64> = (0..n - 1).map(|k| x[k + 1] - x[k]).collect();
-    let del: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();
-    let mut m = vec![0.0; n];
-    m[0] = first;
-    for k in 1..n - 1 {
-        m[k] = if del[k - 1] * del[k] <= 0.0 {
-            0.0
-        } else {
-            (h[k] * del[k - 1] + h[k - 1] * del[k]) / (h[k - 1] + h[k])
-        };
-    }
-    m[n - 1] = if n >= 3 {
-        let (ha, hb) = (h[n - 3], h[n - 2]);
-        let (da, db) = (del[n - 3], del[n - 2]);
-        ((2.0 * hb + ha) * db - hb * da) / (ha + hb)
-    } else {
-        del[0]
-    };
-    for k in 0..n - 1 {
-        let d = del[k];
-        if d == 0.0 {
-            m[k] = 0.0;
-            m[k + 1] = 0.0;
-            continue;
-        }
-        let mut a = m[k] / d;
-        let mut b = m[k + 1] / d;
-        if a < 0.0 {
-            a = 0.0;
-        }
-        if b < 0.0 {
-            b = 0.0;
-        }
-        let s = a * a + b * b;
-        if s > 9.0 {
-            let tau = 3.0 / s.sqrt();
-            a *= tau;
-            b *= tau;
-        }
-        m[k] = a * d;
-        m[k + 1] = b * d;
-    }
-    m
 }

@@ -1,6 +1,6 @@
 //! Grid convergence of the per-ball forces on the 25-ball experiment of
-//! DESIGN §2.6 (25 steel balls R = 5 mm at 10 mm pitch, coplanar summits,
-//! E = 6.54 MPa, ν = 0.5) at 500 N.
+//! Cesbron et al. (2006, section 3: 25 steel balls R = 5 mm at 10 mm pitch,
+//! coplanar summits, E = 6.54 MPa, ν = 0.5) at 500 N.
 //!
 //! ```text
 //! cargo run --release -p tyreroad-bem --example grid_convergence [-- --fine]
@@ -33,10 +33,10 @@ fn main() -> Result<(), BemError> {
         })
         .collect();
     let centres: Vec<[f64; 2]> = balls.iter().map(|b| b.centre).collect();
-    let hertz_a = (3.0 * load / 25.0 * radius / (4.0 * material.e_star())).cbrt();
+    let hertz_a = (3.0 * load / 25.0 * radius / (4.0 * material.reduced_modulus())).cbrt();
     println!(
         "25 balls, W = {load} N, E* = {:.3} MPa; Hertz for W/25 = 20 N alone: a = {:.4} mm, delta = {:.4} mm",
-        material.e_star() * 1e-6,
+        material.reduced_modulus() * 1e-6,
         hertz_a * 1e3,
         hertz_a * hertz_a / radius * 1e3
     );

@@ -37,6 +37,12 @@ impl BemError {
     }
 }
 
+impl From<tyreroad_core::CoreError> for BemError {
+    fn from(e: tyreroad_core::CoreError) -> Self {
+        Self::InvalidInput(e.to_string())
+    }
+}
+
 impl From<realfft::FftError> for BemError {
     fn from(e: realfft::FftError) -> Self {
         Self::Fft(e.to_string())

@@ -3,8 +3,8 @@
 //!
 //! It is the reference against which the multipoint model of the workspace is
 //! validated, and the local solver of the two-scale approach (the real shape
-//! of one asperity carrying a given force). It depends on no other tyreroad
-//! crate.
+//! of one asperity carrying a given force). It depends only on
+//! `tyreroad-core` (material, grid and field, parallelism).
 //!
 //! # Conventions
 //!
@@ -58,7 +58,7 @@
 //! the `nx × ny` block exactly (no wrap-around). The kernel spectrum is
 //! computed once per [`Solver`]; each product `K p` costs one forward and one
 //! inverse real 2D FFT (`realfft` rows, `rustfft` columns, rows and columns
-//! spread over rayon's current pool when [`BemOptions::parallel`] is set).
+//! spread over a rayon pool when [`BemOptions::par`] asks for one).
 //!
 //! *Periodic* ([`BemOptions::periodic`]): the height map is one period
 //! `Lx × Ly = nx·dx × ny·dy`. The kernel is the Love kernel summed over all
@@ -159,7 +159,7 @@
 //! let mut solver = Solver::new(&grid, &material, &BemOptions::default())?;
 //! let s = solver.solve(&surface, Control::Load(1.0))?;
 //! assert!((s.force - 1.0).abs() < 1e-12);
-//! let a_hertz = (3.0 * 1.0 * 5e-3 / (4.0 * material.e_star())).cbrt();
+//! let a_hertz = (3.0 * 1.0 * 5e-3 / (4.0 * material.reduced_modulus())).cbrt();
 //! assert!((s.equivalent_radius() / a_hertz - 1.0).abs() < 0.05);
 //! assert!((s.approach / (a_hertz * a_hertz / 5e-3) - 1.0).abs() < 0.02);
 //! assert!(s.pressure.iter().all(|&p| p >= 0.0));
@@ -181,11 +181,10 @@
 mod error;
 mod grid;
 mod influence;
-mod material;
 mod solver;
 
 pub use error::BemError;
-pub use grid::{Grid, HeightMap, Sphere, nearest_labels, spherical_caps};
+pub use grid::{HeightMap, Sphere, nearest_labels, spherical_caps};
 pub use influence::love_influence;
-pub use material::Material;
 pub use solver::{BemOptions, BemSolution, Control, RegionContact, Solver, solve};
+pub use tyreroad_core::{Field, Grid, Material, Par};

@@ -1,7 +1,15 @@
 //! The constrained conjugate-gradient contact solver (Polonsky & Keer 1999).
 
 use crate::influence::{Convolver, love_influence};
+use tyreroad_core::{Par, is_parallel, run_at};
+
 use crate::{BemError, Grid, HeightMap, Material};
+
+/// Largest number of cells accepted along one axis (the non-periodic FFT
+/// grid doubles it).
+const MAX_CELLS_PER_AXIS: usize = 1 << 20;
+/// Largest total number of cells accepted.
+const MAX_CELLS: usize = 1 << 28;
 
 /// What is imposed on the contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,9 +33,10 @@ pub struct BemOptions {
     /// Periodic domain (the height map is one period in x and y) instead of
     /// the default isolated, non-periodic one. Default `false`.
     pub periodic: bool,
-    /// Run the FFTs on rayon's current thread pool (call the solver inside
-    /// `pool.install(..)` to choose the pool). Default `true`.
-    pub parallel: bool,
+    /// Parallelism of the FFTs: [`Par::Seq`], or `Par::rayon(n)` for a rayon
+    /// pool of `n` threads (the current pool when it has `n` threads).
+    /// Default `Par::rayon(0)`: every thread of rayon's current pool.
+    pub par: Par,
 }
 
 impl Default for BemOptions {
@@ -36,7 +45,7 @@ impl Default for BemOptions {
             tolerance: 1e-8,
             max_iterations: 5000,
             periodic: false,
-            parallel: true,
+            par: Par::rayon(0),
         }
     }
 }
@@ -242,8 +251,17 @@ impl Solver {
     /// [`BemError::InvalidInput`] if the options are invalid.
     pub fn new(grid: &Grid, material: &Material, options: &BemOptions) -> Result<Self, BemError> {
         options.validate()?;
-        let e_star = material.e_star();
-        let conv = Convolver::new(grid, e_star, options.periodic, options.parallel)?;
+        let (nx, ny) = (grid.nx(), grid.ny());
+        if nx > MAX_CELLS_PER_AXIS || ny > MAX_CELLS_PER_AXIS || grid.len() > MAX_CELLS {
+            return Err(BemError::invalid(format!(
+                "grid too large: nx = {nx}, ny = {ny} (at most {MAX_CELLS_PER_AXIS} per axis and {MAX_CELLS} cells)"
+            )));
+        }
+        let e_star = material.reduced_modulus();
+        let parallel = is_parallel(options.par);
+        let conv = run_at(options.par, || {
+            Convolver::new(grid, e_star, options.periodic, parallel)
+        })?;
         let n = grid.len();
         Ok(Self {
             grid: grid.clone(),
@@ -302,7 +320,8 @@ impl Solver {
             )));
         }
         let mut u = vec![0.0; pressure.len()];
-        self.conv.apply(pressure, &mut u)?;
+        let conv = &mut self.conv;
+        run_at(self.options.par, || conv.apply(pressure, &mut u))?;
         Ok(u)
     }
 
@@ -358,6 +377,23 @@ impl Solver {
         control: Control,
         guess: Option<&[f64]>,
     ) -> Result<BemSolution, BemError> {
+        if surface.valid_count() != surface.grid().len() {
+            return Err(BemError::invalid(format!(
+                "the height map has {} invalid cells: fill them first",
+                surface.grid().len() - surface.valid_count()
+            )));
+        }
+        run_at(self.options.par, || {
+            self.run_at_par(surface, control, guess)
+        })
+    }
+
+    fn run_at_par(
+        &mut self,
+        surface: &HeightMap,
+        control: Control,
+        guess: Option<&[f64]>,
+    ) -> Result<BemSolution, BemError> {
         let sg = surface.grid();
         if sg.nx() != self.grid.nx()
             || sg.ny() != self.grid.ny()
@@ -379,7 +415,7 @@ impl Solver {
         let n = self.grid.len();
         let cell = self.grid.cell_area();
         let z_top = surface.max();
-        for (g0, h) in self.g0.iter_mut().zip(surface.heights()) {
+        for (g0, h) in self.g0.iter_mut().zip(surface.values()) {
             *g0 = z_top - h;
         }
         let periodic = self.options.periodic;
@@ -417,7 +453,7 @@ impl Solver {
                 None
             }
         };
-        let e_star = self.material.e_star();
+        let e_star = self.material.reduced_modulus();
 
         // Initial pressure.
         match (guess, load) {

@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use tyreroad_bem::{
-    BemError, BemOptions, BemSolution, Control, Grid, HeightMap, Material, Solver, Sphere,
+    BemError, BemOptions, BemSolution, Control, Grid, HeightMap, Material, Par, Solver, Sphere,
     love_influence, nearest_labels, solve, spherical_caps,
 };
 
@@ -64,10 +64,10 @@ fn hertz_case() -> (HeightMap, Material, Hertz) {
     let radius = 0.01;
     let material = Material::new(1e7, 0.3).unwrap();
     let a_target = 42.0 * dx;
-    let load = 4.0 * material.e_star() * a_target.powi(3) / (3.0 * radius);
+    let load = 4.0 * material.reduced_modulus() * a_target.powi(3) / (3.0 * radius);
     let surface = HeightMap::from_fn(grid, |x, y| -(x * x + y * y) / (2.0 * radius)).unwrap();
     let hertz = Hertz {
-        e_star: material.e_star(),
+        e_star: material.reduced_modulus(),
         radius,
         load,
     };
@@ -159,7 +159,7 @@ fn symmetric_case_gives_symmetric_pressure() {
     let surface = HeightMap::from_fn(grid, |x, y| -(x * x + y * y) / (2.0 * radius)).unwrap();
     let options = BemOptions {
         tolerance: 1e-11,
-        parallel: false,
+        par: Par::Seq,
         ..BemOptions::default()
     };
     let s = solve(&surface, &material, Control::Load(2e-3), &options).unwrap();
@@ -196,14 +196,14 @@ fn flat_circular_punch_stiffness() {
     let delta = 1e-6;
     let surface =
         HeightMap::from_fn(grid, |x, y| if x.hypot(y) <= a { 0.0 } else { -1e-3 }).unwrap();
-    let n_in = surface.heights().iter().filter(|&&h| h == 0.0).count();
+    let n_in = surface.values().iter().filter(|&&h| h == 0.0).count();
     let a_eff = (n_in as f64 * dx * dx / PI).sqrt();
     let options = BemOptions {
         tolerance: 1e-10,
         ..BemOptions::default()
     };
     let s = solve(&surface, &material, Control::Approach(delta), &options).unwrap();
-    let w_exact = 2.0 * material.e_star() * a_eff * delta;
+    let w_exact = 2.0 * material.reduced_modulus() * a_eff * delta;
     let err = s.force / w_exact - 1.0;
     complementarity(&s, 1e-9);
     println!(
@@ -317,7 +317,7 @@ fn periodic_sinusoid_full_contact() {
     let amp = 1e-6;
     let k = 2.0 * PI / lambda;
     let surface = HeightMap::from_fn(grid.clone(), |x, _| amp * (k * x).cos()).unwrap();
-    let p_star = material.e_star() * k * amp / 2.0;
+    let p_star = material.reduced_modulus() * k * amp / 2.0;
     let p_mean = 2.0 * p_star;
     let area = nx as f64 * ny as f64 * dx * dx;
     let options = BemOptions {
@@ -421,14 +421,15 @@ fn periodic_array_matches_one_cell() {
     );
     assert!(rel(rd.force, w) < 1e-7);
     // An approach closing the mean gap has no finite solution.
-    let mean_gap = s1.heights().iter().map(|h| s1.max() - h).sum::<f64>() / one.len() as f64;
+    let mean_gap = s1.values().iter().map(|h| s1.max() - h).sum::<f64>() / one.len() as f64;
     let e = solve(&s1, &material, Control::Approach(1.01 * mean_gap), &options);
     assert!(matches!(e, Err(BemError::InvalidInput(_))));
 }
 
 #[test]
 fn twenty_five_balls_coarse_forces_are_symmetric() {
-    // The DESIGN §2.6 experiment on a coarse grid (0.5 mm cells).
+    // The 25-ball experiment of Cesbron et al. (2006, section 3) on a
+    // coarse grid (0.5 mm cells).
     let dx = 5e-4;
     let grid = Grid::centered(108, 108, dx, dx).unwrap();
     let pos = [-0.02, -0.01, 0.0, 0.01, 0.02];
@@ -476,7 +477,7 @@ fn twenty_five_balls_coarse_forces_are_symmetric() {
     // Hertz for 20 N per ball gives a ≈ 2.05 mm; check the centre ball's
     // radius is in that neighbourhood (coupling and the coarse grid).
     let h = Hertz {
-        e_star: material.e_star(),
+        e_star: material.reduced_modulus(),
         radius: 5e-3,
         load: f(12),
     };
@@ -601,7 +602,11 @@ fn random_rough_surfaces_satisfy_the_contact_conditions() {
         let options = BemOptions {
             tolerance: 1e-9,
             periodic,
-            parallel: case % 3 == 0,
+            par: if case % 3 == 0 {
+                Par::rayon(0)
+            } else {
+                Par::Seq
+            },
             ..BemOptions::default()
         };
         let mut solver = Solver::new(&grid, &material, &options).unwrap();

@@ -47,24 +47,24 @@
 //! ```
 
 mod law;
-mod material;
 mod potential;
 mod reference;
 
 pub use law::{ContactLaw, LawPoint, LocalContact, PressureProfile};
-pub use material::Material;
 pub use potential::{
     C_CONE, C_HERTZ_EXACT, C_SNEDDON_EXACT, C_SPHERE, LocalRule, MIN_STIFFNESS_RATIO, PotentialLaw,
     Ramp,
 };
 pub use reference::{HertzLaw, SneddonLaw};
+/// The half-space's material, shared with the other layers.
+pub use tyreroad_core::Material;
 
 /// What can go wrong when building a contact law.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LawError {
     /// The half-space's material is not physical.
     #[error("invalid material: {0}")]
-    InvalidMaterial(String),
+    InvalidMaterial(#[from] tyreroad_core::CoreError),
     /// The shape constant `c` is not finite and positive.
     #[error("invalid shape constant c = {0} (must be finite and > 0)")]
     InvalidConstant(f64),

@@ -5,6 +5,8 @@
 
 use std::path::Path;
 
+use tyreroad_core::{PchipRule, pchip_slopes};
+
 use crate::error::{FilmError, Result};
 
 /// The manufacturer's LLW standard chart, shipped as
@@ -73,7 +75,7 @@ impl MonotoneCubic {
                 });
             }
         }
-        let d = pchip_slopes(&x, &y);
+        let d = pchip_slopes(&x, &y, PchipRule::HarmonicMean);
         Ok(Self {
             x,
             y,
@@ -161,40 +163,6 @@ impl MonotoneCubic {
             }
         }
         Some(0.5 * (a + b))
-    }
-}
-
-/// Fritsch–Carlson slopes with the shape-preserving three-point end rule.
-fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let h: Vec<f64> = (0..n - 1).map(|k| x[k + 1] - x[k]).collect();
-    let del: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();
-    let mut d = vec![0.0; n];
-    if n == 2 {
-        d[0] = del[0];
-        d[1] = del[0];
-        return d;
-    }
-    for k in 1..n - 1 {
-        if del[k - 1] * del[k] > 0.0 {
-            let w1 = 2.0 * h[k] + h[k - 1];
-            let w2 = h[k] + 2.0 * h[k - 1];
-            d[k] = (w1 + w2) / (w1 / del[k - 1] + w2 / del[k]);
-        }
-    }
-    d[0] = end_slope(h[0], h[1], del[0], del[1]);
-    d[n - 1] = end_slope(h[n - 2], h[n - 3], del[n - 2], del[n - 3]);
-    d
-}
-
-fn end_slope(h0: f64, h1: f64, m0: f64, m1: f64) -> f64 {
-    let d = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1);
-    if d.signum() != m0.signum() {
-        0.0
-    } else if m0.signum() != m1.signum() && d.abs() > 3.0 * m0.abs() {
-        3.0 * m0
-    } else {
-        d
     }
 }
 

@@ -102,26 +102,31 @@ pub enum FilmError {
 /// Shorthand for results of this crate.
 pub type Result<T> = std::result::Result<T, FilmError>;
 
-pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(FilmError::InvalidParameter {
+/// A core validator's error in this crate's terms: the quantity, its value
+/// and what it should be (the validators only report invalid values).
+fn parameter_error(e: tyreroad_core::CoreError) -> FilmError {
+    match e {
+        tyreroad_core::CoreError::InvalidValue {
             name,
             value,
-            requirement: "finite and > 0",
-        })
+            expected,
+        } => FilmError::InvalidParameter {
+            name,
+            value,
+            requirement: expected,
+        },
+        _ => FilmError::InvalidParameter {
+            name: "value",
+            value: f64::NAN,
+            requirement: "valid",
+        },
     }
 }
 
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64> {
+    tyreroad_core::validate::positive(name, value).map_err(parameter_error)
+}
+
 pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(FilmError::InvalidParameter {
-            name,
-            value,
-            requirement: "finite and >= 0",
-        })
-    }
+    tyreroad_core::validate::non_negative(name, value).map_err(parameter_error)
 }

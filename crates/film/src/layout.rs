@@ -57,7 +57,7 @@ impl Layout {
     /// The paper's 25 balls: a 5 × 5 grid at `pitch` (10 mm in the paper)
     /// centred on the origin, numbered in a snake from 1 at `(2p, −2p)` along
     /// the row to 5 at `(−2p, −2p)`, then 6 at `(−2p, −p)` back to 10 at
-    /// `(2p, −p)`, and so on up to 25 at `(−2p, 2p)` (DESIGN.md §2.6).
+    /// `(2p, −p)`, and so on up to 25 at `(−2p, 2p)` (Cesbron et al. 2006, section 3).
     pub fn paper_grid(pitch: f64) -> Self {
         let mut v = Vec::with_capacity(25);
         for row in 0..5 {

@@ -124,13 +124,14 @@ mod solution;
 mod solver;
 
 pub use asperity_set::AsperitySet;
-pub use faer::Par;
 pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::Boussinesq;
 pub use problem::Problem;
-pub use solution::{PressureGrid, Solution, overlapping_contacts, pressure_map};
+pub use solution::{Solution, overlapping_contacts, pressure_map};
 pub use solver::{Control, LinearSolver, SolverOptions, solve, solve_from};
 pub use tyreroad_contact_law::ContactLaw;
+pub use tyreroad_core::Par;
+pub use tyreroad_core::{Field, Grid};
 
 /// What can go wrong in a multipoint solve.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

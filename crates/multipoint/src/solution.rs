@@ -1,7 +1,7 @@
 //! The solved state, and what is rebuilt from it: local contacts and maps.
 
-use faer::Par;
 use tyreroad_contact_law::{ContactLaw, LocalContact};
+use tyreroad_core::{Field, Grid, Par};
 
 use crate::krylov::Interaction;
 use crate::{Problem, SolveError};
@@ -117,54 +117,14 @@ impl Solution {
     }
 }
 
-/// A regular grid on which to sample a pressure map: cell centres at
-/// `(x0 + (i + ½) dx, y0 + (j + ½) dy)`, row-major in `j` (y) then `i` (x).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PressureGrid {
-    /// Lower-left corner x (m).
-    pub x0: f64,
-    /// Lower-left corner y (m).
-    pub y0: f64,
-    /// Cell size along x (m).
-    pub dx: f64,
-    /// Cell size along y (m).
-    pub dy: f64,
-    /// Cells along x.
-    pub nx: usize,
-    /// Cells along y.
-    pub ny: usize,
-}
-
-impl PressureGrid {
-    /// Checks the grid is usable.
-    pub fn validate(&self) -> Result<(), SolveError> {
-        let ok = self.x0.is_finite()
-            && self.y0.is_finite()
-            && self.dx.is_finite()
-            && self.dx > 0.0
-            && self.dy.is_finite()
-            && self.dy > 0.0
-            && self.nx > 0
-            && self.ny > 0;
-        if ok {
-            Ok(())
-        } else {
-            Err(SolveError::InvalidInput(format!(
-                "pressure grid needs finite origin, spacings > 0 and cells > 0: {self:?}"
-            )))
-        }
-    }
-}
-
 /// The pressure map (Pa) of the whole contact patch: the sum of every local
 /// contact's pressure distribution centred on its summit, sampled at the
-/// centres of `grid` (docs/theory.md §2).
+/// cell centres `origin + (i dx, j dy)` of `grid` (see docs/theory.md).
 pub fn pressure_map(
     positions: &[[f64; 2]],
     contacts: &[LocalContact],
-    grid: &PressureGrid,
-) -> Result<Vec<f64>, SolveError> {
-    grid.validate()?;
+    grid: &Grid,
+) -> Result<Field, SolveError> {
     if positions.len() != contacts.len() {
         return Err(SolveError::InvalidInput(format!(
             "{} positions for {} local contacts",
@@ -172,32 +132,34 @@ pub fn pressure_map(
             contacts.len()
         )));
     }
-    let mut map = vec![0.0; grid.nx * grid.ny];
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let [x0, y0] = grid.origin();
+    let mut map = vec![0.0; grid.len()];
     for (c, [xc, yc]) in contacts.iter().zip(positions) {
         if !(c.radius > 0.0) {
             continue;
         }
         // Only the cells whose centres can lie within the contact.
         let cell = |v: f64, v0: f64, d: f64, n: usize| -> usize {
-            (((v - v0) / d - 0.5).max(0.0) as usize).min(n)
+            (((v - v0) / d).max(0.0) as usize).min(n)
         };
         let (i0, i1) = (
-            cell(xc - c.radius, grid.x0, grid.dx, grid.nx),
-            (cell(xc + c.radius, grid.x0, grid.dx, grid.nx) + 2).min(grid.nx),
+            cell(xc - c.radius, x0, grid.dx(), nx),
+            (cell(xc + c.radius, x0, grid.dx(), nx) + 2).min(nx),
         );
         let (j0, j1) = (
-            cell(yc - c.radius, grid.y0, grid.dy, grid.ny),
-            (cell(yc + c.radius, grid.y0, grid.dy, grid.ny) + 2).min(grid.ny),
+            cell(yc - c.radius, y0, grid.dy(), ny),
+            (cell(yc + c.radius, y0, grid.dy(), ny) + 2).min(ny),
         );
         for j in j0..j1 {
-            let y = grid.y0 + (j as f64 + 0.5) * grid.dy;
+            let y = grid.y(j);
             for i in i0..i1 {
-                let x = grid.x0 + (i as f64 + 0.5) * grid.dx;
-                map[j * grid.nx + i] += c.pressure_at((x - xc).hypot(y - yc));
+                let x = grid.x(i);
+                map[grid.index(i, j)] += c.pressure_at((x - xc).hypot(y - yc));
             }
         }
     }
-    Ok(map)
+    Field::new(grid.clone(), map).map_err(|e| SolveError::InvalidInput(e.to_string()))
 }
 
 /// Pairs `(i, j)`, `i < j`, of loaded asperities whose local contacts

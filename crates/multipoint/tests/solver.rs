@@ -287,16 +287,12 @@ fn pressure_map_integrates_to_the_total_force() {
     let problem = paper_grid();
     let s = solve(&problem, Control::Load(500.0), &SolverOptions::default()).unwrap();
     let contacts = s.local_contacts(&problem);
-    let grid = PressureGrid {
-        x0: -0.03,
-        y0: -0.03,
-        dx: 5e-5,
-        dy: 5e-5,
-        nx: 1200,
-        ny: 1200,
-    };
+    // 1200² cells of 50 µm covering [−0.03, 0.03]², centres half a cell in.
+    let grid = Grid::new(1200, 1200, 5e-5, 5e-5)
+        .and_then(|g| g.with_origin([-0.03 + 2.5e-5, -0.03 + 2.5e-5]))
+        .unwrap();
     let map = pressure_map(problem.positions(), &contacts, &grid).unwrap();
-    let total: f64 = map.iter().sum::<f64>() * grid.dx * grid.dy;
+    let total: f64 = map.integral();
     assert!(rel(total, 500.0) < 2e-3, "integrated {total}");
     // Hertz radius of the corner ball from its force.
     let (p, r) = (s.forces[0], 5e-3);

@@ -1,12 +1,16 @@
 //! The height map: a regular grid of heights with a validity mask.
 
+use tyreroad_core::{CoreError, Field, Grid};
+
 use crate::error::{TextureError, check_positive};
 
-/// Most grid points a map may hold (2³⁰ ≈ 1.07e9): larger sizes read from a
-/// file are refused before anything is allocated.
-pub const MAX_POINTS: usize = 1 << 30;
+/// Most grid points a map may hold (2³⁰ ≈ 1.07e9, the core grid's
+/// [`tyreroad_core::MAX_CELLS`]): larger sizes read from a file are refused
+/// before anything is allocated.
+pub const MAX_POINTS: usize = tyreroad_core::MAX_CELLS;
 
-/// A road texture sampled on a regular grid.
+/// A road texture sampled on a regular grid: a core [`Field`] that always
+/// carries its validity mask and sits at the coordinate origin.
 ///
 /// Point `(i, j)` (`i < nx` along x, the driving direction; `j < ny` along
 /// y) lies at `x = i·dx`, `y = j·dy` and is stored at index `j·nx + i`
@@ -16,16 +20,17 @@ pub const MAX_POINTS: usize = 1 << 30;
 ///
 /// - `nx ≥ 1`, `ny ≥ 1`, `nx·ny ≤` [`MAX_POINTS`];
 /// - `dx`, `dy` finite and `> 0` (m);
-/// - `heights.len() == valid.len() == nx·ny`;
+/// - the grid's origin (centre of point `(0, 0)`) is `(0, 0)`;
+/// - the mask is always present: `heights.len() == valid.len() == nx·ny`;
 /// - every valid height is finite; an invalid (missing) point stores NaN.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HeightMap {
-    nx: usize,
-    ny: usize,
-    dx: f64,
-    dy: f64,
-    heights: Vec<f64>,
-    valid: Vec<bool>,
+    /// Always built by `Field::with_mask`: its mask is present.
+    field: Field,
+}
+
+fn map_error(e: CoreError) -> TextureError {
+    TextureError::InvalidMap(e.to_string())
 }
 
 impl HeightMap {
@@ -61,46 +66,15 @@ impl HeightMap {
         ny: usize,
         dx: f64,
         dy: f64,
-        mut heights: Vec<f64>,
+        heights: Vec<f64>,
         valid: Vec<bool>,
     ) -> Result<Self, TextureError> {
         check_size(nx, ny)?;
         check_positive("dx", dx)?;
         check_positive("dy", dy)?;
-        let n = nx * ny;
-        if heights.len() != n {
-            return Err(TextureError::InvalidMap(format!(
-                "{} heights for a {nx} × {ny} grid (expected {n})",
-                heights.len()
-            )));
-        }
-        if valid.len() != n {
-            return Err(TextureError::InvalidMap(format!(
-                "validity mask of {} points for a {nx} × {ny} grid (expected {n})",
-                valid.len()
-            )));
-        }
-        for (k, (h, v)) in heights.iter_mut().zip(&valid).enumerate() {
-            if *v {
-                if !h.is_finite() {
-                    return Err(TextureError::InvalidMap(format!(
-                        "height {h} at valid point ({}, {}) is not finite",
-                        k % nx,
-                        k / nx
-                    )));
-                }
-            } else {
-                *h = f64::NAN;
-            }
-        }
-        Ok(Self {
-            nx,
-            ny,
-            dx,
-            dy,
-            heights,
-            valid,
-        })
+        let grid = Grid::new(nx, ny, dx, dy).map_err(map_error)?;
+        let field = Field::with_mask(grid, heights, valid).map_err(map_error)?;
+        Ok(Self { field })
     }
 
     /// A map sampled from `f(x, y)` at `x = i·dx`, `y = j·dy`; non-finite
@@ -122,90 +96,83 @@ impl HeightMap {
         Self::new(nx, ny, dx, dy, h)
     }
 
+    /// The map as a core field (origin at `(0, 0)`, mask present).
+    pub fn field(&self) -> &Field {
+        &self.field
+    }
+    /// Consumes the map and returns its core field.
+    pub fn into_field(self) -> Field {
+        self.field
+    }
+    /// The grid (centre of point `(0, 0)` at the origin).
+    pub fn grid(&self) -> &Grid {
+        self.field.grid()
+    }
     /// Number of points along x.
     pub fn nx(&self) -> usize {
-        self.nx
+        self.grid().nx()
     }
     /// Number of points along y (number of profiles).
     pub fn ny(&self) -> usize {
-        self.ny
+        self.grid().ny()
     }
     /// Spacing along x (m).
     pub fn dx(&self) -> f64 {
-        self.dx
+        self.grid().dx()
     }
     /// Spacing along y (m).
     pub fn dy(&self) -> f64 {
-        self.dy
+        self.grid().dy()
     }
     /// Heights (m), row-major (`j·nx + i`); NaN at invalid points.
     pub fn heights(&self) -> &[f64] {
-        &self.heights
+        self.field.values()
     }
     /// Validity mask, row-major; `true` = measured.
     pub fn valid(&self) -> &[bool] {
-        &self.valid
+        self.field.mask().unwrap_or(&[])
     }
     /// Index of point `(i, j)`.
     #[inline]
     pub fn index(&self, i: usize, j: usize) -> usize {
-        j * self.nx + i
+        self.grid().index(i, j)
     }
     /// Height at `(i, j)`, `None` if out of range or invalid.
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> Option<f64> {
-        if i < self.nx && j < self.ny {
-            let k = self.index(i, j);
-            self.valid[k].then_some(self.heights[k])
-        } else {
-            None
-        }
+        self.field.get(i, j)
     }
     /// Profile `j` (heights along x), NaN at invalid points.
     pub fn row(&self, j: usize) -> &[f64] {
-        &self.heights[j * self.nx..(j + 1) * self.nx]
+        self.field.row(j)
     }
     /// Number of valid points.
     pub fn valid_count(&self) -> usize {
-        self.valid.iter().filter(|v| **v).count()
+        self.field.valid_count()
     }
     /// Length along x, `(nx − 1)·dx` (m).
     pub fn length_x(&self) -> f64 {
-        (self.nx - 1) as f64 * self.dx
+        (self.nx() - 1) as f64 * self.dx()
     }
     /// Length along y, `(ny − 1)·dy` (m).
     pub fn length_y(&self) -> f64 {
-        (self.ny - 1) as f64 * self.dy
-    }
-
-    fn valid_heights(&self) -> impl Iterator<Item = f64> + '_ {
-        self.heights
-            .iter()
-            .zip(&self.valid)
-            .filter(|(_, v)| **v)
-            .map(|(h, _)| *h)
+        (self.ny() - 1) as f64 * self.dy()
     }
 
     /// Mean height over valid points (`None` if none is valid).
     pub fn mean(&self) -> Option<f64> {
-        let n = self.valid_count();
-        (n > 0).then(|| self.valid_heights().sum::<f64>() / n as f64)
+        self.field.mean()
     }
 
     /// `Sq`: root mean square of the heights about their mean, over valid
     /// points (`None` if none is valid).
     pub fn rms(&self) -> Option<f64> {
-        let m = self.mean()?;
-        let n = self.valid_count() as f64;
-        Some((self.valid_heights().map(|h| (h - m).powi(2)).sum::<f64>() / n).sqrt())
+        self.field.rms()
     }
 
     /// Smallest and largest valid heights (`None` if none is valid).
     pub fn min_max(&self) -> Option<(f64, f64)> {
-        self.valid_heights().fold(None, |acc, h| match acc {
-            None => Some((h, h)),
-            Some((lo, hi)) => Some((lo.min(h), hi.max(h))),
-        })
+        self.field.min_max()
     }
 
     /// A copy with invalid points filled (all become valid): each invalid
@@ -218,9 +185,9 @@ impl HeightMap {
                 "the map has no valid point to fill from".into(),
             ));
         }
-        let mut h = self.heights.clone();
-        let mut v = self.valid.clone();
-        let (nx, ny) = (self.nx, self.ny);
+        let mut h = self.heights().to_vec();
+        let mut v = self.valid().to_vec();
+        let (nx, ny) = (self.nx(), self.ny());
         loop {
             let mut changed = Vec::new();
             for j in 0..ny {
@@ -261,7 +228,7 @@ impl HeightMap {
                 v[k] = true;
             }
         }
-        Self::new(self.nx, self.ny, self.dx, self.dy, h)
+        Self::new(nx, ny, self.dx(), self.dy(), h)
     }
 }
 

@@ -4,7 +4,7 @@
 // Numerical kernels index several arrays in step.
 #![allow(clippy::needless_range_loop)]
 
-use rustfft::{FftPlanner, num_complex::Complex};
+use tyreroad_core::spectrum::{periodogram, third_octave_centre, third_octave_edges};
 
 use crate::error::{TextureError, check_positive};
 use crate::heightmap::HeightMap;
@@ -181,12 +181,13 @@ pub fn third_octave_spectrum(map: &HeightMap) -> Result<Vec<ThirdOctaveBand>, Te
     );
     let mut bands: Vec<ThirdOctaveBand> = (lo_idx..=hi_idx)
         .map(|m| {
-            let centre = 10f64.powf(m as f64 / 10.0) * 1e-3;
+            let centre = third_octave_centre(1e-3, m);
+            let (lower, upper) = third_octave_edges(centre);
             ThirdOctaveBand {
                 index: m,
                 centre,
-                lower: centre * 10f64.powf(-0.05),
-                upper: centre * 10f64.powf(0.05),
+                lower,
+                upper,
                 rms: 0.0,
                 level_db: f64::NEG_INFINITY,
             }
@@ -198,10 +199,9 @@ pub fn third_octave_spectrum(map: &HeightMap) -> Result<Vec<ThirdOctaveBand>, Te
             "no one-third-octave band fits between 2·dx and the profile length".into(),
         ));
     }
-    let fft = FftPlanner::new().plan_fft_forward(n);
     let mut power = vec![0.0; bands.len()];
     let mut profiles = 0usize;
-    let mut buf = vec![Complex::new(0.0, 0.0); n];
+    let mut detrended = vec![0.0; n];
     for j in 0..map.ny() {
         let Some(p) = fill_profile(map.row(j)) else {
             continue;
@@ -211,17 +211,12 @@ pub fn third_octave_spectrum(map: &HeightMap) -> Result<Vec<ThirdOctaveBand>, Te
         let sxx: f64 = (0..n).map(|i| (i as f64 - xm).powi(2)).sum();
         let sxy: f64 = (0..n).map(|i| (i as f64 - xm) * (p[i] - ym)).sum();
         let slope = sxy / sxx;
-        for (i, c) in buf.iter_mut().enumerate() {
-            *c = Complex::new(p[i] - ym - slope * (i as f64 - xm), 0.0);
+        for (i, d) in detrended.iter_mut().enumerate() {
+            *d = p[i] - ym - slope * (i as f64 - xm);
         }
-        fft.process(&mut buf);
-        let nn = (n * n) as f64;
-        for k in 1..=n / 2 {
-            let pk = if 2 * k == n {
-                buf[k].norm_sqr() / nn
-            } else {
-                2.0 * buf[k].norm_sqr() / nn
-            };
+        let periodogram = periodogram(&detrended)
+            .map_err(|e| TextureError::NotEnoughData(format!("profile {j}: {e}")))?;
+        for (k, &pk) in periodogram.iter().enumerate().skip(1) {
             let lambda = length / k as f64;
             if let Some(b) = bands
                 .iter()

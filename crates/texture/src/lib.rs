@@ -6,7 +6,8 @@
 //! A [`HeightMap`] is a regular grid: `nx` points along x (the driving
 //! direction) at spacing `dx`, `ny` profiles along y at spacing `dy`,
 //! heights in metres stored row-major (`j·nx + i`), and a validity mask
-//! (missing points store NaN). Invariants: sizes ≥ 1 and consistent,
+//! (missing points store NaN): a `tyreroad_core::Field` at the origin whose
+//! mask is always present ([`HeightMap::field`]). Invariants: sizes ≥ 1 and consistent,
 //! spacings finite and > 0, valid heights finite. Constructors return a
 //! [`TextureError`]; nothing panics on user input.
 //!
@@ -54,7 +55,8 @@
 //!   mean of the MSDs over segments and profiles. Profiles shorter than
 //!   100 mm use their whole length as the baseline (reported).
 //! - One-third-octave texture spectrum (ISO/TS 13473-4), along x: per
-//!   detrended profile, the one-sided periodogram `P_k = 2|X_k|²/N²` summed
+//!   detrended profile, the one-sided periodogram `P_k = 2|X_k|²/N²`
+//!   (`tyreroad_core::spectrum::periodogram`) summed
 //!   over the bins whose wavelength `N·dx/k` lies in each band
 //!   (`λ_c = 10^(m/10)` mm, edges `λ_c·10^(±1/20)`), averaged over profiles;
 //!   `L = 20 log10(a_rms / 1 µm)` with `a_rms² =` band power.

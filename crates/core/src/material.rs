@@ -1,12 +1,14 @@
 //! The elastic half-space's material.
 
-use crate::LawError;
+use crate::CoreError;
+use crate::validate::positive;
 
 /// Linear elastic, isotropic material of the half-space (the tread).
 ///
 /// Invariant: `E` is finite and positive, `−1 < ν ≤ 0.5` (0.5 is rubber's
-/// incompressible limit).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+/// incompressible limit). Only the plane-strain modulus `E* = E / (1 − ν²)`
+/// enters the frictionless contact of a rigid body on the half-space.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     youngs_modulus: f64,
     poisson_ratio: f64,
@@ -15,16 +17,18 @@ pub struct Material {
 impl Material {
     /// A material with Young's modulus `youngs_modulus` (Pa) and Poisson's
     /// ratio `poisson_ratio`.
-    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Result<Self, LawError> {
-        if !(youngs_modulus.is_finite() && youngs_modulus > 0.0) {
-            return Err(LawError::InvalidMaterial(format!(
-                "Young's modulus must be finite and > 0 Pa, got {youngs_modulus}"
-            )));
-        }
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidValue`] unless `youngs_modulus` is finite and > 0
+    /// and `−1 < poisson_ratio ≤ 0.5`.
+    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Result<Self, CoreError> {
+        positive("Young's modulus (Pa)", youngs_modulus)?;
         if !(poisson_ratio.is_finite() && poisson_ratio > -1.0 && poisson_ratio <= 0.5) {
-            return Err(LawError::InvalidMaterial(format!(
-                "Poisson's ratio must lie in (-1, 0.5], got {poisson_ratio}"
-            )));
+            return Err(CoreError::InvalidValue {
+                name: "Poisson's ratio",
+                value: poisson_ratio,
+                expected: "in (-1, 0.5]",
+            });
         }
         Ok(Self {
             youngs_modulus,
@@ -55,15 +59,19 @@ impl Material {
     }
 }
 
-impl<'de> serde::Deserialize<'de> for Material {
-    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        #[derive(serde::Deserialize)]
-        #[serde(deny_unknown_fields)]
-        struct Raw {
-            youngs_modulus: f64,
-            poisson_ratio: f64,
-        }
-        let raw = Raw::deserialize(deserializer)?;
-        Material::new(raw.youngs_modulus, raw.poisson_ratio).map_err(serde::de::Error::custom)
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validation_and_moduli() {
+        assert!(Material::new(1e6, 0.5).is_ok());
+        assert!(Material::new(0.0, 0.3).is_err());
+        assert!(Material::new(f64::NAN, 0.3).is_err());
+        assert!(Material::new(1e6, -1.0).is_err());
+        assert!(Material::new(1e6, 0.51).is_err());
+        let m = Material::new(6.54e6, 0.5).expect("valid");
+        assert!((m.reduced_modulus() - 8.72e6).abs() < 1e-6);
+        assert!((m.boussinesq_factor() - 1.0 / (std::f64::consts::PI * 8.72e6)).abs() < 1e-22);
     }
 }
