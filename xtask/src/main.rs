@@ -17,6 +17,7 @@ mod rolling_cmd;
 mod scenario;
 mod statics;
 mod texture_cmd;
+mod texture_roads_cmd;
 mod texture_static;
 mod units;
 mod validate;
