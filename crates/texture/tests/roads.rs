@@ -376,3 +376,31 @@ fn bad_parameters_give_named_errors() {
     pv.height_spread = -1.0;
     assert_eq!(invalid_name(pave(&pv).unwrap_err()), "height_spread");
 }
+
+#[test]
+fn plateau_summits_sit_on_the_wear_plane_without_a_paraboloid() {
+    use tyreroad_texture::{SegmentOptions, segment};
+    let map = worn_chip_seal(&WornChipSeal::new(RoadGrid::square(200, 200, 0.2e-3), 2026)).unwrap();
+    let (_, level) = map.min_max().unwrap();
+    let seg = segment(
+        &map,
+        &SegmentOptions {
+            min_prominence: 0.2e-3,
+            min_area: 2e-6,
+        },
+    )
+    .unwrap();
+    let h = map.heights();
+    let mut on_plateau = 0;
+    for a in seg.asperities() {
+        let flat = a.cells.iter().filter(|&&c| h[c] == level).count();
+        if flat >= 9 {
+            // A paraboloid through the plateau's edge would lift the summit
+            // above the flat top and soften the law's onset.
+            on_plateau += 1;
+            assert!(a.fit.is_none(), "{:?}", a.summit_cell);
+            assert_eq!(a.summit_height, level);
+        }
+    }
+    assert!(on_plateau >= 3, "{on_plateau} plateaus");
+}
