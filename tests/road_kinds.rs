@@ -25,7 +25,10 @@ fn kinds() -> Result<Vec<(&'static str, HeightMap)>, Box<dyn std::error::Error>>
     let seed = 2026;
     Ok(vec![
         ("transverse tining", tining(&Tining::transverse(g, seed))?),
-        ("longitudinal tining", tining(&Tining::longitudinal(g, seed))?),
+        (
+            "longitudinal tining",
+            tining(&Tining::longitudinal(g, seed))?,
+        ),
         (
             "brushed concrete",
             brushed_concrete(&BrushedConcrete::new(g, seed))?,
