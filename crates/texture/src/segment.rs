@@ -274,8 +274,8 @@ fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; 
 /// points at exactly the summit height, e.g. a ground-flat top): there the summit point is merely the first plateau
 /// point in index order, on the plateau's edge, and a paraboloid through
 /// the edge raises the summit above the flat top and makes the law's onset
-/// Hertzian where a flat punch is right (10-80 times too soft at 1-10 µm on
-/// a worn chip seal).
+/// Hertzian where a flat punch is right (up to 180 times too soft at 1 µm on
+/// a worn chip seal, docs/texture.md).
 fn fit_summit(
     map: &HeightMap,
     labels: &[u32],
