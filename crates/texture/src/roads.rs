@@ -333,6 +333,16 @@ pub fn brushed_concrete(p: &BrushedConcrete) -> Result<HeightMap, TextureError> 
             requirement: "in [1, 1000]",
         });
     }
+    check_positive("striation_rms", p.striation_rms)?;
+    check_positive("striation_short", p.striation_short)?;
+    check_positive("striation_long", p.striation_long)?;
+    if p.striation_short >= p.striation_long {
+        return Err(TextureError::InvalidParameter {
+            name: "striation_short",
+            value: p.striation_short,
+            requirement: "< striation_long",
+        });
+    }
     let striations = self_affine(&SelfAffine {
         nx: g.nx,
         ny: g.ny,

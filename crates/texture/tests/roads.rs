@@ -345,6 +345,18 @@ fn bad_parameters_give_named_errors() {
         invalid_name(brushed_concrete(&b).unwrap_err()),
         "elongation"
     );
+    b.elongation = 20.0;
+    b.striation_rms = 0.0;
+    assert_eq!(
+        invalid_name(brushed_concrete(&b).unwrap_err()),
+        "striation_rms"
+    );
+    b.striation_rms = 0.2e-3;
+    b.striation_short = 5e-3;
+    assert_eq!(
+        invalid_name(brushed_concrete(&b).unwrap_err()),
+        "striation_short"
+    );
     let mut e = ExposedAggregate::new(g, 1);
     e.exposure = (0.5, 0.2);
     assert_eq!(invalid_name(exposed_aggregate(&e).unwrap_err()), "exposure");
