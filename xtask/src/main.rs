@@ -15,6 +15,7 @@ mod pressure_image;
 mod rolling_cmd;
 mod statics;
 mod texture_cmd;
+mod texture_roads_cmd;
 mod texture_static;
 mod validate;
 

@@ -3,7 +3,8 @@
 //! - `texture info FILE`: `key: value` lines (grid, spacings, Sq, MPD);
 //! - `texture synth self-affine|aggregate ... --out FILE.x3p`: a synthetic
 //!   surface, reproducible from its seed, written as X3P (whole or not at
-//!   all: a temporary file, then a rename).
+//!   all: a temporary file, then a rename); also the hard road kinds
+//!   (`transverse-tining`, `pave`, ..., see [`crate::texture_roads_cmd`]).
 
 use std::path::PathBuf;
 
@@ -97,6 +98,10 @@ pub enum SynthKind {
         #[arg(long, default_value_t = 0.5)]
         embed_max: f64,
     },
+    /// The hard road kinds (tining, brushed, exposed aggregate, porous
+    /// asphalt, worn chip seal, pavé).
+    #[command(flatten)]
+    Road(crate::texture_roads_cmd::RoadKind),
 }
 
 fn parse_grading(s: &str) -> Result<Vec<(f64, f64)>> {
@@ -216,6 +221,7 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
                     };
                     (texture::aggregate(&p)?, grid)
                 }
+                SynthKind::Road(road) => road.build()?,
             };
             let ty = parse_type(&grid.data_type)?;
             texture::io::x3p::write_x3p(&map, &grid.out, ty)

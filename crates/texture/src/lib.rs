@@ -47,6 +47,12 @@
 //! the height being the maximum of the shapes. Both are reproducible from a
 //! seed (ChaCha8).
 //!
+//! # Hard road kinds ([`roads`])
+//!
+//! Tined, brushed and exposed-aggregate concrete, porous asphalt, worn chip
+//! seal and pavé, built from the same blocks plus grooves, wear planes,
+//! pores and blocks (docs/texture.md has the table of kinds).
+//!
 //! # Indicators ([`indicators`])
 //!
 //! - Mean profile depth (ISO 13473-1), along x: per segment of
@@ -113,6 +119,7 @@ mod error;
 mod heightmap;
 pub mod indicators;
 pub mod io;
+pub mod roads;
 pub mod segment;
 pub mod synth;
 
@@ -120,6 +127,11 @@ pub use error::TextureError;
 pub use heightmap::{HeightMap, MAX_POINTS};
 pub use indicators::{Mpd, ThirdOctaveBand, mean_profile_depth, third_octave_spectrum};
 pub use io::read_any;
+pub use roads::{
+    BrushedConcrete, ExposedAggregate, Microtexture, Pave, PorousAsphalt, RoadGrid, Tining,
+    TiningDirection, WornChipSeal, brushed_concrete, exposed_aggregate, pave, porous_asphalt,
+    tining, worn_chip_seal,
+};
 pub use segment::{
     Asperity, CapOptions, GridCap, SegmentOptions, Segmentation, SummitFit, UNLABELLED,
     asperity_cap, segment,

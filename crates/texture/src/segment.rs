@@ -270,7 +270,12 @@ fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; 
 /// Least-squares paraboloid `z = c₀ + c₁u + c₂v + c₃u² + c₄uv + c₅v²` over
 /// the basin's points within 2 cells of the summit point (`u, v` in cells);
 /// `None` unless at least 9 points, a negative-definite Hessian and a vertex
-/// within 1.5 cells.
+/// within 1.5 cells, and `None` on a plateau (five or more of the window's
+/// points at exactly the summit height, e.g. a ground-flat top): there the summit point is merely the first plateau
+/// point in index order, on the plateau's edge, and a paraboloid through
+/// the edge raises the summit above the flat top and makes the law's onset
+/// Hertzian where a flat punch is right (up to 180 times too soft at 1 µm on
+/// a worn chip seal, docs/texture.md).
 fn fit_summit(
     map: &HeightMap,
     labels: &[u32],
@@ -281,6 +286,20 @@ fn fit_summit(
     let mut ata = [[0.0; 6]; 6];
     let mut atb = [0.0; 6];
     let z0 = map.get(si, sj)?;
+    // Four points of the window tie at most on a smooth summit that is
+    // symmetric about the grid (a ball centred between four points); five or
+    // more at exactly the summit height are a plateau.
+    let mut level = 0;
+    for j in sj.saturating_sub(2)..(sj + 3).min(ny) {
+        for i in si.saturating_sub(2)..(si + 3).min(nx) {
+            if labels[j * nx + i] == id && map.get(i, j) == Some(z0) {
+                level += 1;
+            }
+        }
+    }
+    if level >= 5 {
+        return None;
+    }
     let mut count = 0;
     for j in sj.saturating_sub(2)..(sj + 3).min(ny) {
         for i in si.saturating_sub(2)..(si + 3).min(nx) {
