@@ -6,6 +6,9 @@ pub use tyreroad_asperity as asperity;
 pub use tyreroad_bem as bem;
 /// Single-asperity contact laws (`tyreroad-contact-law`).
 pub use tyreroad_contact_law as contact_law;
+/// The shared core (`tyreroad-core`): material, grid and field, spectra,
+/// PCHIP, validators, parallelism. Named `shared` because `core` is Rust's.
+pub use tyreroad_core as shared;
 /// Pressure-film post-processing (`tyreroad-film`).
 pub use tyreroad_film as film;
 /// Multipoint contact solver (`tyreroad-multipoint`).

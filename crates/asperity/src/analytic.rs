@@ -11,7 +11,7 @@ use crate::{CapGeometry, CapMeasures, GeometryError, error::check_positive};
 /// continue as a vertical cylinder of radius `R` (the section of a ball cannot
 /// shrink under a plate it is seated in), which keeps `Σ` non-decreasing and
 /// the measures C¹ at `δ = R`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
     radius: f64,
 }
@@ -68,7 +68,7 @@ impl CapGeometry for Sphere {
 /// A conical asperity of half-angle `α` (between the axis and the flank).
 ///
 /// With `t = tan α`: `Ω = π t² δ³ / 3`, `Σ = π t² δ²`, `Γ = 2π t δ`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cone {
     half_angle: f64,
 }
@@ -121,7 +121,7 @@ impl CapGeometry for Cone {
 /// `Γ = Γ₁ √δ` with `Γ₁` the perimeter of the ellipse of semi-axes
 /// `√(2Rx)`, `√(2Ry)` (complete elliptic integral of the second kind,
 /// computed by the arithmetic–geometric mean).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EllipticParaboloid {
     radius_x: f64,
     radius_y: f64,

@@ -114,5 +114,9 @@ pub use cap::{CapGeometry, CapMeasures};
 pub use error::GeometryError;
 pub use mesh::{CapPatch, MeshAsperity, MeshSection};
 pub use mesh_build::MeshBuffers;
+// Re-exported on purpose: `MeshAsperity::trimesh` returns and
+// `MeshAsperity::from_trimesh` takes parry's `TriMesh`, so a caller must
+// build against this very parry; nalgebra's `Point3` (for
+// `MeshAsperity::from_points`) is parry's own point type's conversion partner.
 pub use parry3d_f64;
 pub use table::{CapTable, TabulatedCap};

@@ -14,7 +14,7 @@ use crate::error::check_positive;
 ///
 /// Turn them into an asperity with
 /// [`MeshAsperity::from_buffers`](crate::MeshAsperity::from_buffers).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshBuffers {
     /// Vertex coordinates `[x, y, z]` (m), `z` up.
     pub vertices: Vec<[f64; 3]>,

@@ -6,7 +6,7 @@ use tyreroad_core::{PchipRule, pchip_slopes};
 
 /// Samples of cap measures on an increasing grid of depths: the serialised
 /// form of a [`TabulatedCap`].
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CapTable {
     /// Depths `δₖ` (m), strictly increasing, `δ₀ > 0`.
     pub depth: Vec<f64>,
@@ -86,8 +86,7 @@ pub struct CapTable {
 /// assert!((fast.perimeter - exact.perimeter).abs() < 1e-4 * exact.perimeter);
 /// # Ok::<(), tyreroad_asperity::GeometryError>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(try_from = "CapTable", into = "CapTable")]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TabulatedCap {
     table: CapTable,
     /// `Ω` of the interpolant at the nodes.

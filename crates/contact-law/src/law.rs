@@ -26,7 +26,7 @@ pub trait ContactLaw {
     }
 
     /// The local contact carrying `force` at interpenetration `depth`: its
-    /// radius and pressure distribution (DESIGN §2.3).
+    /// radius and pressure distribution (docs/theory.md §2).
     fn local_contact(&self, force: f64, depth: f64) -> LocalContact;
 }
 

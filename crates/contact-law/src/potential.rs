@@ -40,7 +40,7 @@ pub enum LocalRule {
     HalfSection,
 }
 
-/// The interaction-potential law of Wilke and Sameur (DESIGN §2.1):
+/// The interaction-potential law of Wilke and Sameur (docs/theory.md §1):
 ///
 /// ```text
 /// U(δ) = c · 8 π^(3/4) / 15 · E/(1 − ν²) · Ω² Γ^(1/2) / Σ^(7/4),   P = dU/dδ
