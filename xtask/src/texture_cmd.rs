@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use tyreroad_texture as texture;
+use tyreroad::texture;
 
 /// Subcommands of `cargo xtask texture`.
 #[derive(Debug, Clone, clap::Subcommand)]

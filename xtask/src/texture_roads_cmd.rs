@@ -3,8 +3,8 @@
 //! defaults; the options override the main parameters.
 
 use anyhow::Result;
-use tyreroad_texture as texture;
-use tyreroad_texture::roads::{self, RoadGrid};
+use tyreroad::texture;
+use tyreroad::texture::roads::{self, RoadGrid};
 
 use crate::texture_cmd::GridArgs;
 

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use tyreroad_asperity::Sphere;
-use tyreroad_contact_law::{C_HERTZ_EXACT, ContactLaw, HertzLaw, PotentialLaw};
+use tyreroad::asperity::Sphere;
+use tyreroad::contact_law::{C_HERTZ_EXACT, ContactLaw, HertzLaw, PotentialLaw};
 
 use tyreroad::scenario::output::OutputSet;
 use tyreroad::scenario::{Scenario, StaticRow, loads, run_static};
@@ -112,9 +112,9 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     Ok(())
 }
 
-fn film_rows(rows: &[StaticRow]) -> Vec<tyreroad_film::ModelRow> {
+fn film_rows(rows: &[StaticRow]) -> Vec<tyreroad::film::ModelRow> {
     rows.iter()
-        .map(|r| tyreroad_film::ModelRow {
+        .map(|r| tyreroad::film::ModelRow {
             load_n: r.load,
             indenter: r.id,
             x_m: r.x,
