@@ -27,6 +27,16 @@ pub enum ScenarioError {
         /// The parser's message (key, line and column).
         message: String,
     },
+    /// A value is out of the range where it means something; names the key.
+    #[error("`{key}` = {value}: expected {expected}")]
+    Value {
+        /// The key, with its section (`[rolling] step`).
+        key: String,
+        /// The value as written or read.
+        value: String,
+        /// What it must be.
+        expected: String,
+    },
     /// The scenario parses but asks for something inconsistent or
     /// unsupported (the message names the section).
     #[error("{0}")]

@@ -19,6 +19,7 @@
 //! ```
 
 mod bem;
+mod check;
 mod error;
 pub mod output;
 mod rolling;
@@ -34,6 +35,7 @@ pub use bem::{
     BEM_CELL, BemComparison, BemLoad, ComparedLoad, IMAGE_LOAD, MAP_CELL, MAX_FORCE_DIFFERENCE,
     bem_comparison, differences,
 };
+pub use check::check_name;
 pub use error::ScenarioError;
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};

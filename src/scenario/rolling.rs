@@ -102,13 +102,21 @@ pub(crate) fn run_rolling(
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
         let (set, summary) = texture_road_set(texture, &options.base_dir, material)?;
-        return run_on(set, RoadSummary::Texture(summary), material, spec, options);
+        return run_on(
+            scenario,
+            set,
+            RoadSummary::Texture(summary),
+            material,
+            spec,
+            options,
+        );
     }
     match (scenario.asperities.is_empty(), &spec.synthetic_road) {
         (false, None) => {
             let set = scenario.asperity_set()?;
             let count = set.len();
             run_on(
+                scenario,
                 set,
                 RoadSummary::Asperities { count },
                 material,
@@ -120,6 +128,7 @@ pub(crate) fn run_rolling(
             let road = synth.road().sphere_road(material)?;
             let count = road.len();
             roll_road(
+                scenario,
                 &road,
                 RoadSummary::Synthetic { count },
                 material,
@@ -137,6 +146,7 @@ pub(crate) fn run_rolling(
 }
 
 fn run_on<L: ContactLaw + Sync>(
+    scenario: &Scenario,
     set: AsperitySet<L>,
     summary: RoadSummary,
     material: Material,
@@ -144,17 +154,18 @@ fn run_on<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
 ) -> Result<RollingRun, ScenarioError> {
     let road = rolling::Road::new(set);
-    roll_road(&road, summary, material, spec, options)
+    roll_road(scenario, &road, summary, material, spec, options)
 }
 
 fn roll_road<L: ContactLaw + Sync>(
+    scenario: &Scenario,
     road: &rolling::Road<L>,
     summary: RoadSummary,
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
 ) -> Result<RollingRun, ScenarioError> {
-    let config = spec.config()?;
+    let config = scenario.rolling_config()?;
     let checkpoint = options
         .checkpoint_dir
         .as_deref()

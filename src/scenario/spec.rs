@@ -310,11 +310,18 @@ impl Scenario {
         if scenario.asperities.is_empty() && !synthetic_road && scenario.texture.is_none() {
             return invalid("no [[asperity]] given");
         }
-        if let Some(t) = &scenario.texture
-            && !(t.min_prominence.value() >= 0.0 && t.min_area.value() >= 0.0)
-        {
-            return invalid("[texture] min_prominence and min_area must be ≥ 0");
-        }
+        super::check::check(&scenario).map_err(|e| match e {
+            ScenarioError::Value {
+                key,
+                value,
+                expected,
+            } => ScenarioError::Value {
+                key: format!("{origin}: {key}"),
+                value,
+                expected,
+            },
+            other => other,
+        })?;
         Ok(scenario)
     }
 
@@ -347,6 +354,27 @@ impl Scenario {
             o.max_iterations = m;
         }
         o
+    }
+
+    /// The `[rolling]` configuration, with `[solver]`'s tolerance and
+    /// iteration limit when given (the run's steps are static solves).
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] without a `[rolling]` section, or any
+    /// error of [`RollingSpec::config`].
+    pub fn rolling_config(&self) -> Result<tyreroad_rolling::RollingConfig> {
+        let spec = self
+            .rolling
+            .as_ref()
+            .ok_or_else(|| ScenarioError::Invalid("no [rolling] section".into()))?;
+        let mut config = spec.config()?;
+        if let Some(t) = self.solver.tolerance {
+            config.tolerance = t;
+        }
+        if let Some(m) = self.solver.max_iterations {
+            config.max_iterations = m;
+        }
+        Ok(config)
     }
 
     /// Asperity labels, in file order.

@@ -1,0 +1,613 @@
+//! Every number of a scenario checked against the range where the model
+//! means something, before anything is allocated or solved: an absurd value
+//! is an error that names its key, never a panic, a runaway allocation, or a
+//! silently wrong result.
+//!
+//! The plausibility bounds are wide on purpose (soft gels to steel, a
+//! fingertip to a truck): they catch typing errors and unit slips (a modulus
+//! in Pa written as MPa, a step in µm written as m), not unusual physics.
+
+use super::ScenarioError;
+use super::rolling_spec::{RollingSpec, TreadSpec};
+use super::spec::{Scenario, ShapeSpec, SynthSpec};
+
+/// Young's modulus range (Pa): a soft gel to a hard metal.
+pub const MODULUS_RANGE: [f64; 2] = [1e3, 1e12];
+/// Load range (N) of a static load or a rolling wheel load.
+pub const LOAD_RANGE: [f64; 2] = [0.0, 1e7];
+/// Length range (m) of a positive geometric size (radius, spacing, step,
+/// tread size, road size).
+pub const SIZE_RANGE: [f64; 2] = [1e-7, 1e3];
+/// Largest magnitude (m) of a coordinate (positions, heights, path ends).
+pub const MAX_COORDINATE: f64 = 1e4;
+/// Speed range (m/s): walking pace to well above any road vehicle.
+pub const SPEED_RANGE: [f64; 2] = [1e-3, 500.0];
+/// Range of the relative solver tolerance.
+pub const TOLERANCE_RANGE: [f64; 2] = [1e-15, 1e-3];
+/// Largest number of Newton iterations per load step.
+pub const MAX_ITERATIONS: usize = 100_000;
+/// Range of a potential-law shape constant `c` (sphere 0.36, cone 0.45).
+pub const CONSTANT_RANGE: [f64; 2] = [1e-3, 10.0];
+/// Most steps on a rolling path.
+pub const MAX_STEPS: f64 = 1e7;
+/// Most points of a synthesised height map (8 bytes each, and a mask).
+pub const MAX_MAP_POINTS: f64 = 2e8;
+/// Most summits of a synthetic sphere road.
+pub const MAX_SYNTHETIC_SUMMITS: f64 = 2e7;
+/// Smallest reference force of the decibel levels (N): below, 1 N reads as
+/// more than 240 dB.
+pub const MIN_REFERENCE_FORCE: f64 = 1e-12;
+/// Threads may exceed the machine's parallelism by this factor at most.
+pub const THREAD_OVERSUBSCRIPTION: usize = 4;
+/// Longest output name (characters).
+pub const MAX_NAME_LEN: usize = 100;
+
+/// An error naming `key`, its value and what it must be.
+fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> ScenarioError {
+    ScenarioError::Value {
+        key: key.into(),
+        value: value.to_string(),
+        expected: expected.into(),
+    }
+}
+
+/// `value` must be finite and in `[lo, hi]` (`open_lo`: `> lo`).
+fn in_range(
+    key: &str,
+    value: f64,
+    [lo, hi]: [f64; 2],
+    open_lo: bool,
+    unit: &str,
+) -> Result<(), ScenarioError> {
+    let above = if open_lo { value > lo } else { value >= lo };
+    if value.is_finite() && above && value <= hi {
+        Ok(())
+    } else {
+        let open = if open_lo { "(" } else { "[" };
+        Err(bad(
+            key,
+            format!("{value:e} {unit}"),
+            &format!("a finite value in {open}{lo:e}, {hi:e}] {unit}"),
+        ))
+    }
+}
+
+fn size(key: &str, value: f64) -> Result<(), ScenarioError> {
+    in_range(key, value, SIZE_RANGE, false, "m")
+}
+
+fn coordinate(key: &str, value: f64) -> Result<(), ScenarioError> {
+    in_range(key, value, [-MAX_COORDINATE, MAX_COORDINATE], false, "m")
+}
+
+/// An output name must be a plain file name: it becomes the stem of files
+/// inside the output folder and must not lead out of it.
+pub fn check_name(name: &str) -> Result<(), ScenarioError> {
+    let plain = !name.is_empty()
+        && name.len() <= MAX_NAME_LEN
+        && !name.starts_with('.')
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+    if plain {
+        Ok(())
+    } else {
+        Err(bad(
+            "name",
+            format!("{name:?}"),
+            "a plain file name: 1 to 100 of A-Z a-z 0-9 _ - . (not starting with a dot)",
+        ))
+    }
+}
+
+/// Checks every value of `scenario` (see the module doc).
+pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
+    check_name(&scenario.name)?;
+    in_range(
+        "[material] youngs_modulus",
+        scenario.material.youngs_modulus.value(),
+        MODULUS_RANGE,
+        false,
+        "Pa",
+    )?;
+    if let Some(t) = scenario.solver.tolerance {
+        in_range("[solver] tolerance", t, TOLERANCE_RANGE, false, "")?;
+    }
+    if let Some(m) = scenario.solver.max_iterations
+        && !(1..=MAX_ITERATIONS).contains(&m)
+    {
+        return Err(bad("[solver] max_iterations", m, "1 to 100000"));
+    }
+    if let Some(shape) = &scenario.default_shape {
+        check_shape("[default_shape]", shape)?;
+    }
+    if let Some(s) = &scenario.static_case {
+        if s.loads.is_empty() {
+            return Err(bad("[static] loads", "[]", "at least one load"));
+        }
+        for (k, w) in s.loads.iter().enumerate() {
+            in_range(
+                &format!("[static] loads[{k}]"),
+                w.value(),
+                LOAD_RANGE,
+                true,
+                "N",
+            )?;
+        }
+    }
+    let mut ids = std::collections::HashMap::new();
+    for (k, a) in scenario.asperities.iter().enumerate() {
+        let key = |field: &str| format!("[[asperity]] #{} {field}", k + 1);
+        coordinate(&key("x"), a.x.value())?;
+        coordinate(&key("y"), a.y.value())?;
+        if let Some(h) = a.height {
+            coordinate(&key("height"), h.value())?;
+        }
+        if let Some(shape) = &a.shape {
+            check_shape(&key("shape"), shape)?;
+        }
+        let id = a.id.unwrap_or(k as u32 + 1);
+        if let Some(first) = ids.insert(id, k + 1) {
+            return Err(bad(
+                &key("id"),
+                id,
+                &format!("an id no other asperity has (#{first} has it too)"),
+            ));
+        }
+    }
+    if let Some(t) = &scenario.texture {
+        in_range(
+            "[texture] min_prominence",
+            t.min_prominence.value(),
+            [0.0, 1.0],
+            false,
+            "m",
+        )?;
+        in_range(
+            "[texture] min_area",
+            t.min_area.value(),
+            [0.0, 1e2],
+            false,
+            "m2",
+        )?;
+        if let Some(c) = t.constant {
+            in_range("[texture] constant", c, CONSTANT_RANGE, false, "")?;
+        }
+        if let Some(synth) = &t.synth {
+            check_synth(synth)?;
+        }
+    }
+    if let Some(r) = &scenario.rolling {
+        check_rolling(scenario, r)?;
+    }
+    Ok(())
+}
+
+fn check_shape(key: &str, shape: &ShapeSpec) -> Result<(), ScenarioError> {
+    let constant = match shape {
+        ShapeSpec::Sphere { radius, constant } => {
+            size(&format!("{key} radius"), radius.value())?;
+            constant
+        }
+        ShapeSpec::Cone {
+            half_angle,
+            constant,
+        } => {
+            let a = half_angle.value();
+            if !(a.is_finite() && a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+                return Err(bad(
+                    &format!("{key} half_angle"),
+                    format!("{a} rad"),
+                    "an angle in (0, 90) deg",
+                ));
+            }
+            constant
+        }
+        ShapeSpec::EllipticParaboloid {
+            radius_x,
+            radius_y,
+            constant,
+        } => {
+            size(&format!("{key} radius_x"), radius_x.value())?;
+            size(&format!("{key} radius_y"), radius_y.value())?;
+            constant
+        }
+    };
+    if let Some(c) = constant {
+        in_range(&format!("{key} constant"), *c, CONSTANT_RANGE, false, "")?;
+    }
+    Ok(())
+}
+
+fn check_synth(synth: &SynthSpec) -> Result<(), ScenarioError> {
+    let (nx, ny, spacing) = match synth {
+        SynthSpec::Aggregate {
+            nx,
+            ny,
+            spacing,
+            coverage,
+            embedding,
+            ..
+        } => {
+            if let Some(c) = coverage {
+                in_range("[texture.synth] coverage", *c, [1e-3, 10.0], false, "")?;
+            }
+            if let Some([lo, hi]) = embedding
+                && !(lo.is_finite() && hi.is_finite() && 0.0 <= *lo && lo <= hi && *hi < 1.0)
+            {
+                return Err(bad(
+                    "[texture.synth] embedding",
+                    format!("[{lo}, {hi}]"),
+                    "0 ≤ min ≤ max < 1",
+                ));
+            }
+            (*nx, *ny, spacing.value())
+        }
+        SynthSpec::SelfAffine {
+            nx,
+            ny,
+            spacing,
+            rms,
+            lambda_long,
+            lambda_short,
+            ..
+        } => {
+            size("[texture.synth] rms", rms.value())?;
+            size("[texture.synth] lambda_long", lambda_long.value())?;
+            size("[texture.synth] lambda_short", lambda_short.value())?;
+            (*nx, *ny, spacing.value())
+        }
+    };
+    size("[texture.synth] spacing", spacing)?;
+    if nx < 2 || ny < 2 {
+        return Err(bad(
+            "[texture.synth] nx, ny",
+            format!("{nx} × {ny}"),
+            "at least 2 × 2 points",
+        ));
+    }
+    let points = nx as f64 * ny as f64;
+    if points > MAX_MAP_POINTS {
+        return Err(bad(
+            "[texture.synth] nx, ny",
+            format!("{nx} × {ny} = {points:e} points"),
+            &format!("at most {MAX_MAP_POINTS:e} points"),
+        ));
+    }
+    Ok(())
+}
+
+fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioError> {
+    // Sections a rolling run does not read would be silently ignored.
+    if scenario.static_case.is_some() {
+        return Err(bad(
+            "[static]",
+            "given",
+            "absent in a rolling scenario (a rolling run has no static loads)",
+        ));
+    }
+    if scenario.default_shape.is_some() && scenario.asperities.is_empty() {
+        return Err(bad(
+            "[default_shape]",
+            "given",
+            "absent unless [[asperity]] entries use it (textures and synthetic roads have their own shapes)",
+        ));
+    }
+    if r.tolerance.is_some() && scenario.solver.tolerance.is_some() {
+        return Err(bad(
+            "[rolling] tolerance",
+            "given with [solver] tolerance",
+            "one of the two",
+        ));
+    }
+    if let Some(t) = r.tolerance {
+        in_range("[rolling] tolerance", t, TOLERANCE_RANGE, false, "")?;
+    }
+    coordinate("[rolling] start", r.start.value())?;
+    coordinate("[rolling] end", r.end.value())?;
+    size("[rolling] step", r.step.value())?;
+    if let Some(l) = r.lateral {
+        coordinate("[rolling] lateral", l.value())?;
+    }
+    if let Some(m) = r.margin {
+        in_range(
+            "[rolling] margin",
+            m.value(),
+            [0.0, SIZE_RANGE[1]],
+            false,
+            "m",
+        )?;
+    }
+    let steps = (r.end.value() - r.start.value()) / r.step.value() + 1.0;
+    if !(steps >= 1.0) {
+        return Err(bad(
+            "[rolling] end",
+            format!("{:e} m", r.end.value()),
+            "≥ start",
+        ));
+    }
+    if steps > MAX_STEPS {
+        return Err(bad(
+            "[rolling] step",
+            format!("{:e} m ({steps:e} steps)", r.step.value()),
+            &format!("a step giving at most {MAX_STEPS:e} steps from start to end"),
+        ));
+    }
+    in_range(
+        "[rolling] speed",
+        r.speed.value(),
+        SPEED_RANGE,
+        false,
+        "m/s",
+    )?;
+    match r.tread {
+        TreadSpec::Block { length, width } => {
+            size("[rolling.tread] length", length.value())?;
+            size("[rolling.tread] width", width.value())?;
+        }
+        TreadSpec::Tyre {
+            radius_x,
+            radius_y,
+            length,
+            width,
+        } => {
+            size("[rolling.tread] radius_x", radius_x.value())?;
+            size("[rolling.tread] radius_y", radius_y.value())?;
+            size("[rolling.tread] length", length.value())?;
+            size("[rolling.tread] width", width.value())?;
+        }
+    }
+    let c = &r.control;
+    if let Some(w) = c.load {
+        in_range("[rolling.control] load", w.value(), LOAD_RANGE, false, "N")?;
+    }
+    if let Some(d) = c.approach {
+        coordinate("[rolling.control] approach", d.value())?;
+    }
+    if let Some(h) = c.tread_height {
+        in_range(
+            "[rolling.control] tread_height",
+            h.value(),
+            [0.0, MAX_COORDINATE],
+            false,
+            "m",
+        )?;
+    }
+    if let Some(f) = r.reference_force {
+        in_range(
+            "[rolling] reference_force",
+            f.value(),
+            [MIN_REFERENCE_FORCE, LOAD_RANGE[1]],
+            false,
+            "N",
+        )?;
+    }
+    if let Some(n) = r.threads {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if n > THREAD_OVERSUBSCRIPTION * cores {
+            return Err(bad(
+                "[rolling] threads",
+                n,
+                &format!(
+                    "0 (every core) to {} ({THREAD_OVERSUBSCRIPTION} × the {cores} cores)",
+                    THREAD_OVERSUBSCRIPTION * cores
+                ),
+            ));
+        }
+    }
+    if let Some(k) = r.chunks
+        && !(1.0..=steps).contains(&(k as f64))
+    {
+        return Err(bad(
+            "[rolling] chunks",
+            k,
+            &format!("1 to the {steps} steps"),
+        ));
+    }
+    if let Some(s) = r.segment
+        && s < 8
+    {
+        return Err(bad("[rolling] segment", s, "at least 8 samples"));
+    }
+    let mut names = std::collections::HashSet::new();
+    for (k, s) in r.sensors.iter().enumerate() {
+        let key = |field: &str| format!("[[rolling.sensor]] #{} {field}", k + 1);
+        let printable = !s.name.is_empty()
+            && s.name.len() <= MAX_NAME_LEN
+            && !s.name.chars().any(char::is_control);
+        if !printable {
+            return Err(bad(
+                &key("name"),
+                format!("{:?}", s.name),
+                "1 to 100 printable characters",
+            ));
+        }
+        if !names.insert(s.name.as_str()) {
+            return Err(bad(
+                &key("name"),
+                format!("{:?}", s.name),
+                "a name no other sensor has",
+            ));
+        }
+        for (field, q) in [("x0", s.x0), ("x1", s.x1), ("y0", s.y0), ("y1", s.y1)] {
+            coordinate(&key(field), q.value())?;
+        }
+        if !(s.x0.value() < s.x1.value() && s.y0.value() < s.y1.value()) {
+            return Err(bad(
+                &key("x0, x1, y0, y1"),
+                "an empty rectangle",
+                "x0 < x1 and y0 < y1",
+            ));
+        }
+    }
+    if let Some(road) = &r.synthetic_road {
+        let g = road.road();
+        size("[rolling.synthetic_road] length", g.length)?;
+        size("[rolling.synthetic_road] width", g.width)?;
+        size("[rolling.synthetic_road] min_spacing", g.min_spacing)?;
+        size("[rolling.synthetic_road] radius_min", g.radius_min)?;
+        size("[rolling.synthetic_road] radius_max", g.radius_max)?;
+        in_range(
+            "[rolling.synthetic_road] height_spread",
+            g.height_spread,
+            [0.0, SIZE_RANGE[1]],
+            false,
+            "m",
+        )?;
+        if g.radius_max < g.radius_min {
+            return Err(bad(
+                "[rolling.synthetic_road] radius_max",
+                g.radius_max,
+                "≥ radius_min",
+            ));
+        }
+        in_range(
+            "[rolling.synthetic_road] density",
+            g.density,
+            [0.0, 1e9],
+            true,
+            "1/m2",
+        )?;
+        // Both the density and the spacing bound the summit count (a disc of
+        // diameter min_spacing around each).
+        let area = g.length * g.width;
+        let packed = area / (0.5 * g.min_spacing * g.min_spacing);
+        let summits = (g.density * area).min(packed);
+        if summits > MAX_SYNTHETIC_SUMMITS {
+            return Err(bad(
+                "[rolling.synthetic_road] density",
+                format!("{:e} summits", summits),
+                &format!("at most {MAX_SYNTHETIC_SUMMITS:e} summits on the road"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use crate::scenario::Scenario;
+
+    const PAPER: &str = include_str!("../../fixtures/paper_25_spheres.toml");
+    const ROLLING: &str = include_str!("../../fixtures/rolling_tyre_dense_asphalt.toml");
+
+    /// `base` with `from` replaced by `to` must be refused with a message
+    /// naming `key`.
+    fn refused(base: &str, from: &str, to: &str, key: &str) {
+        assert!(base.contains(from), "fixture lacks {from:?}");
+        let text = base.replacen(from, to, 1);
+        match Scenario::parse(&text, "case") {
+            Ok(_) => panic!("{to:?} accepted"),
+            Err(e) => assert!(e.to_string().contains(key), "{to:?}: {e} (expected {key})"),
+        }
+    }
+
+    #[test]
+    fn fixtures_pass_the_checks() {
+        assert!(Scenario::parse(PAPER, "paper").is_ok());
+        assert!(Scenario::parse(ROLLING, "rolling").is_ok());
+    }
+
+    #[test]
+    fn out_of_range_static_values_name_their_key() {
+        let n = "name = \"paper_25_spheres\"";
+        refused(PAPER, n, "name = \"../x\"", "`case: name`");
+        refused(PAPER, n, "name = \"/tmp/x\"", "`case: name`");
+        refused(PAPER, n, "name = \"\"", "`case: name`");
+        refused(PAPER, n, "name = \"a\\nb\"", "`case: name`");
+        refused(
+            PAPER,
+            "\"6.54 MPa\"",
+            "\"1e-300 Pa\"",
+            "[material] youngs_modulus",
+        );
+        refused(
+            PAPER,
+            "[material]",
+            "[solver]\ntolerance = 1e3\n\n[material]",
+            "[solver] tolerance",
+        );
+        refused(PAPER, "\"500 N\"", "\"1e30 N\"", "[static] loads[3]");
+        refused(PAPER, "\"289 N\"", "\"-1 N\"", "[static] loads[0]");
+        refused(
+            PAPER,
+            "radius = \"5 mm\"",
+            "radius = \"1e10 m\"",
+            "[default_shape] radius",
+        );
+        refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
+    }
+
+    #[test]
+    fn out_of_range_rolling_values_name_their_key() {
+        refused(
+            ROLLING,
+            "step = \"1 mm\"",
+            "step = \"1e-300 m\"",
+            "[rolling] step",
+        );
+        refused(
+            ROLLING,
+            "step = \"1 mm\"",
+            "step = \"0.001 um\"",
+            "[rolling] step",
+        );
+        refused(
+            ROLLING,
+            "speed = \"50 km/h\"",
+            "speed = \"1e30 m/s\"",
+            "[rolling] speed",
+        );
+        refused(
+            ROLLING,
+            "speed = \"50 km/h\"",
+            "speed = \"0 m/s\"",
+            "[rolling] speed",
+        );
+        refused(
+            ROLLING,
+            "reference_force = \"1 N\"",
+            "reference_force = \"1e-300 N\"",
+            "[rolling] reference_force",
+        );
+        refused(
+            ROLLING,
+            "checkpoint = true",
+            "checkpoint = true\nthreads = 100000",
+            "[rolling] threads",
+        );
+        refused(
+            ROLLING,
+            "load = \"1500 N\"",
+            "tread_height = \"-1 mm\"",
+            "[rolling.control] tread_height",
+        );
+        let wide = ROLLING.replacen("nx = 2000", "nx = 30000", 1);
+        refused(&wide, "ny = 600", "ny = 30000", "[texture.synth] nx, ny");
+        refused(
+            ROLLING,
+            "min_prominence = \"0.1 mm\"",
+            "min_prominence = \"-0.1 mm\"",
+            "[texture] min_prominence",
+        );
+        refused(
+            ROLLING,
+            "name = \"shoulder\"",
+            "name = \"centre\"",
+            "#2 name",
+        );
+        refused(
+            ROLLING,
+            "name = \"shoulder\"",
+            "name = \"a\\nb\"",
+            "#2 name",
+        );
+        refused(
+            ROLLING,
+            "\n[material]\n",
+            "\n[static]\nloads = [\"1 N\"]\n\n[material]\n",
+            "[static]",
+        );
+    }
+}
