@@ -226,3 +226,75 @@ fn bad_input_is_refused() -> TestResult {
     assert!(none.map.is_none());
     Ok(())
 }
+
+#[test]
+fn a_blunt_asperity_is_clipped_and_recorded_not_fatal() -> TestResult {
+    use tyreroad::two_scale::LocalStatus;
+    let m = rubber()?;
+    // A near-flat cone (1 nm drop per metre) whose summit curvature claims
+    // R = 0.1 mm: the contact spreads wider than any local grid.
+    let flat = LocalShape::Custom {
+        height: Arc::new(|dx: f64, dy: f64| -1e-9 * dx.hypot(dy)),
+        equivalent_radius: 1e-4,
+    };
+    let ball = LocalShape::Paraboloid {
+        radius_x: 5e-3,
+        radius_y: 5e-3,
+    };
+    let ts = two_scale(
+        &[[0.0, 0.0], [0.05, 0.0]],
+        &[30.0, 10.0],
+        &[flat, ball],
+        &m,
+        &TwoScaleOptions::default(),
+    )?;
+    assert!(
+        matches!(ts.local[0].status, LocalStatus::ClippedAtEdge { half_width } if half_width > 70.0),
+        "{:?}",
+        ts.local[0].status
+    );
+    assert_eq!(ts.local[1].status, LocalStatus::Complete);
+    assert_eq!(ts.fallbacks().count(), 1);
+    // The clipped field still carries its force exactly; the map balances.
+    assert!((ts.local[0].force - 30.0).abs() < 1e-9 * 30.0);
+    let map = ts.map.as_ref().ok_or("no map")?;
+    assert!((map.integral() - 40.0).abs() < 1e-9 * 40.0);
+    Ok(())
+}
+
+#[test]
+fn a_failed_local_solve_falls_back_to_hertz_with_its_reason() -> TestResult {
+    use tyreroad::two_scale::LocalStatus;
+    let m = rubber()?;
+    let mut options = TwoScaleOptions::default();
+    // One conjugate-gradient iteration cannot converge: every local BEM
+    // solve fails, and each asperity gets Hertz's field instead.
+    options.bem.max_iterations = 1;
+    let (p, r) = (20.0, 5e-3);
+    let ts = two_scale(
+        &[[0.0, 0.0]],
+        &[p],
+        &[LocalShape::Paraboloid {
+            radius_x: r,
+            radius_y: r,
+        }],
+        &m,
+        &options,
+    )?;
+    let local = &ts.local[0];
+    let LocalStatus::HertzFallback { reason } = &local.status else {
+        panic!("expected a fallback, got {:?}", local.status);
+    };
+    assert!(!reason.is_empty());
+    let a = hertz_radius(p, r, &m);
+    assert!((local.force - p).abs() < 1e-12 * p);
+    assert!((local.radius - a).abs() < 1e-12 * a);
+    // The discrete Hertz field's area is πa² to the grid's resolution.
+    let area = std::f64::consts::PI * a * a;
+    assert!(
+        (local.contact_area - area).abs() < 0.05 * area,
+        "{} vs {area}",
+        local.contact_area
+    );
+    Ok(())
+}

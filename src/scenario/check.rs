@@ -257,6 +257,13 @@ fn check_synth(synth: &SynthSpec) -> Result<(), ScenarioError> {
             size("[texture.synth] lambda_short", lambda_short.value())?;
             (*nx, *ny, spacing.value())
         }
+        SynthSpec::TransverseTining(g)
+        | SynthSpec::LongitudinalTining(g)
+        | SynthSpec::BrushedConcrete(g)
+        | SynthSpec::ExposedAggregate(g)
+        | SynthSpec::PorousAsphalt(g)
+        | SynthSpec::WornChipSeal(g)
+        | SynthSpec::Pave(g) => (g.nx, g.ny, g.spacing.value()),
     };
     size("[texture.synth] spacing", spacing)?;
     if nx < 2 || ny < 2 {

@@ -7,7 +7,7 @@ use serde::Deserialize;
 use tyreroad_asperity::{Cone, EllipticParaboloid, Sphere};
 use tyreroad_contact_law::{C_CONE, C_SPHERE, ContactLaw, LocalRule, Material, PotentialLaw};
 use tyreroad_multipoint::{AsperitySet, Problem, SolverOptions};
-use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine};
+use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine, roads};
 
 use super::ScenarioError;
 use super::rolling_spec::RollingSpec;
@@ -65,10 +65,39 @@ pub struct TextureSpec {
     pub constant: Option<f64>,
 }
 
+/// The grid and seed of a hard road kind (`tyreroad_texture::roads`, with
+/// that kind's documented defaults for everything else).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadKindSpec {
+    /// Points along x.
+    pub nx: usize,
+    /// Points along y.
+    pub ny: usize,
+    /// Grid spacing (both directions).
+    pub spacing: Length,
+    /// Generator seed.
+    pub seed: u64,
+}
+
 /// `[texture.synth]`: the generator, its grid and seed.
 #[derive(Debug, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum SynthSpec {
+    /// Transverse tining: 3 mm grooves, 4 mm deep, at 12.5 mm, on mortar.
+    TransverseTining(RoadKindSpec),
+    /// Longitudinal tining (grooves along x), same defaults.
+    LongitudinalTining(RoadKindSpec),
+    /// Brushed concrete: fine transverse striations.
+    BrushedConcrete(RoadKindSpec),
+    /// Exposed-aggregate concrete.
+    ExposedAggregate(RoadKindSpec),
+    /// Porous (open-graded) asphalt: plateaus and deep pores.
+    PorousAsphalt(RoadKindSpec),
+    /// Worn chip seal: 6/10 chippings ground flat.
+    WornChipSeal(RoadKindSpec),
+    /// Pavé: setts with joints.
+    Pave(RoadKindSpec),
     /// Chippings on a base plane (`tyreroad_texture::Aggregate::new`).
     Aggregate {
         /// Points along x.
@@ -140,6 +169,12 @@ impl TextureSpec {
     }
 }
 
+impl RoadKindSpec {
+    fn grid(&self) -> roads::RoadGrid {
+        roads::RoadGrid::square(self.nx, self.ny, self.spacing.value())
+    }
+}
+
 impl SynthSpec {
     /// The synthetic height map.
     pub fn height_map(&self) -> Result<HeightMap> {
@@ -205,6 +240,25 @@ impl SynthSpec {
                 lambda_short: lambda_short.value(),
                 seed: *seed,
             }),
+            SynthSpec::TransverseTining(g) => {
+                roads::tining(&roads::Tining::transverse(g.grid(), g.seed))
+            }
+            SynthSpec::LongitudinalTining(g) => {
+                roads::tining(&roads::Tining::longitudinal(g.grid(), g.seed))
+            }
+            SynthSpec::BrushedConcrete(g) => {
+                roads::brushed_concrete(&roads::BrushedConcrete::new(g.grid(), g.seed))
+            }
+            SynthSpec::ExposedAggregate(g) => {
+                roads::exposed_aggregate(&roads::ExposedAggregate::new(g.grid(), g.seed))
+            }
+            SynthSpec::PorousAsphalt(g) => {
+                roads::porous_asphalt(&roads::PorousAsphalt::new(g.grid(), g.seed))
+            }
+            SynthSpec::WornChipSeal(g) => {
+                roads::worn_chip_seal(&roads::WornChipSeal::new(g.grid(), g.seed))
+            }
+            SynthSpec::Pave(g) => roads::pave(&roads::Pave::new(g.grid(), g.seed)),
         };
         synthesised.map_err(|source| ScenarioError::Texture {
             context: "[texture.synth]".into(),

@@ -44,6 +44,10 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "validation")]
         out: PathBuf,
+        /// Exit non-zero when any item fell back to a lower-fidelity
+        /// result (the outputs are written all the same).
+        #[arg(long)]
+        strict: bool,
     },
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
@@ -59,12 +63,16 @@ fn main() -> Result<()> {
         Command::Validate(args) => validate::run(&args),
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
-        Command::Run { scenario, out } => run_scenario(&scenario, &out),
+        Command::Run {
+            scenario,
+            out,
+            strict,
+        } => run_scenario(&scenario, &out, strict),
     }
 }
 
 /// `cargo xtask run`: the library runs the scenario, this prints and writes.
-fn run_scenario(path: &Path, out: &Path) -> Result<()> {
+fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
     let s = Scenario::from_path(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     if s.rolling.is_some() {
@@ -72,8 +80,11 @@ fn run_scenario(path: &Path, out: &Path) -> Result<()> {
     }
     let result = s.run(&RunOptions::new(base))?;
     let mut set = OutputSet::new(out)?;
+    let mut fallbacks = 0;
     match result {
-        ScenarioResult::Texture(r) => texture_static::report_texture_static(&s.name, &r, &mut set)?,
+        ScenarioResult::Texture(r) => {
+            fallbacks = texture_static::report_texture_static(&s.name, &r, &mut set)?;
+        }
         ScenarioResult::Static(r) => {
             statics::print_table(&r.rows);
             statics::print_runs(&r.runs);
@@ -82,5 +93,8 @@ fn run_scenario(path: &Path, out: &Path) -> Result<()> {
         ScenarioResult::Rolling(run) => return rolling_cmd::report_rolling(&run, out),
     }
     statics::print_written(&set.commit()?);
+    if strict && fallbacks > 0 {
+        anyhow::bail!("--strict: {fallbacks} items fell back (outputs written)");
+    }
     Ok(())
 }

@@ -35,6 +35,8 @@ struct TwoScaleRow {
     radius: f64,
     #[serde(rename = "max_pressure_pa", serialize_with = "fmt::sci9")]
     max_pressure: f64,
+    /// `complete`, `clipped` or `hertz` (`tyreroad::two_scale::LocalStatus`).
+    local_field: &'static str,
 }
 
 /// Prints a texture run and stages into `set`:
@@ -46,14 +48,17 @@ struct TwoScaleRow {
 ///   pairs of contacts whose half-section radii overlap, where the model's
 ///   premise fails);
 /// - `NAME_two_scale.csv`
-///   (`load_n,indenter,force_n,contact_area_m2,radius_m,max_pressure_pa`):
+///   (`load_n,indenter,force_n,contact_area_m2,radius_m,max_pressure_pa,local_field`):
 ///   each loaded asperity's contact rebuilt by a local BEM solve on its own
-///   surface;
+///   surface, and how (`complete`, or the fallback: `clipped`, `hertz`);
 /// - per load, the two-scale pressure map as `NAME_pressure_<load>N.png`
 ///   and `NAME_pressure_<load>N.npz` (`pressure`, `x`, `y`, `origin`,
 ///   `spacing`);
 /// - the height map as `NAME_height_map.npz` (`heights`, `spacing`).
-pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet) -> Result<()> {
+///
+/// Returns the number of asperity fields that fell back (each printed).
+pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet) -> Result<usize> {
+    let mut fallbacks = 0;
     let t = &r.texture;
     println!(
         "texture {} × {} at {:.3} × {:.3} mm: {} asperities ({} segmented, {} without depth range)",
@@ -106,7 +111,12 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
                 contact_area: f.contact_area,
                 radius: f.radius,
                 max_pressure: f.max_pressure,
+                local_field: f.status.name(),
             });
+        }
+        for (k, status) in ts.fallbacks() {
+            fallbacks += 1;
+            println!("  fallback: indenter {}: {status}", ids[k]);
         }
         if let Some(field) = &ts.map {
             let area: f64 = ts.local.iter().map(|f| f.contact_area).sum();
@@ -128,11 +138,18 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
     }
     set.write_csv(&format!("{name}_summary.csv"), &summary)?;
     if local.is_empty() {
-        let header = "load_n,indenter,force_n,contact_area_m2,radius_m,max_pressure_pa\n";
+        let header =
+            "load_n,indenter,force_n,contact_area_m2,radius_m,max_pressure_pa,local_field\n";
         set.write(&format!("{name}_two_scale.csv"), header.as_bytes())?;
     } else {
         set.write_csv(&format!("{name}_two_scale.csv"), &local)?;
     }
     set.write(&format!("{name}_height_map.npz"), &height_map_npz(&r.map)?)?;
-    Ok(())
+    if fallbacks > 0 {
+        println!(
+            "summary: {fallbacks} asperity fields fell back to a lower-fidelity field (see \
+             local_field in {name}_two_scale.csv)"
+        );
+    }
+    Ok(fallbacks)
 }

@@ -23,14 +23,26 @@
 //! expected contact diameter `2 a_i`, where `a_i = (3 P_i R_i / 4E*)^(1/3)`
 //! is Hertz's radius for the shape's equivalent radius `R_i`. If the contact
 //! reaches the edge of that grid the solve is repeated on a grid 1.5 times
-//! wider (up to three times).
+//! wider: three times at the same resolution, then up to six more times with
+//! the same number of cells (coarser), so a blunt shape costs no more than a
+//! sharp one.
+//!
+//! # Failure isolation
+//!
+//! One awkward asperity never loses the map. Its [`LocalField::status`] says
+//! what it got: [`LocalStatus::Complete`] (the contact lies inside its
+//! grid), [`LocalStatus::ClippedAtEdge`] (it still reaches the edge of the
+//! widest grid: the field is that grid's BEM solution, whose force is exact
+//! but whose area is cut by the edge), or [`LocalStatus::HertzFallback`]
+//! (its local BEM solve failed: Hertz's field for its equivalent radius,
+//! force exact, with the reason). [`TwoScale::fallbacks`] lists them.
 //!
 //! All local grids have the same number of cells, only their cell size
 //! differs. The elastic half-space has no length scale: scaling every length
 //! (grid and heights) by `1/s` leaves the pressure unchanged and divides the
 //! force by `s²` (Love's influence coefficient is homogeneous of degree 1 in
 //! the lengths). Every local problem is therefore solved on one canonical
-//! grid, and one [`bem::Solver`] (its kernel spectrum computed once) serves
+//! grid, and one [`bem::Solver`](crate::bem::Solver) (its kernel spectrum computed once) serves
 //! every asperity (one per rayon worker).
 //!
 //! # Outputs
@@ -43,13 +55,11 @@
 //! overlaps, in proportion to the overlap area): it integrates to `Σ P_i`
 //! to rounding.
 
-use std::sync::Arc;
-
 use rayon::prelude::*;
 
 use tyreroad_core::{Field, Par, is_parallel, run_at};
 
-use crate::bem::{self, BemError, BemOptions, Grid, HeightMap};
+use crate::bem::{BemError, BemOptions, Grid};
 use crate::contact_law::Material;
 use crate::multipoint::{ContactLaw, Problem, Solution};
 
@@ -57,105 +67,18 @@ use crate::multipoint::{ContactLaw, Problem, Solution};
 /// the module documentation on scaling).
 const CANONICAL_CELL: f64 = 1e-4;
 
-/// Number of widenings of a local grid whose contact reaches its edge.
+/// Widenings of a local grid whose contact reaches its edge, at the same
+/// resolution (the cell count grows).
 const MAX_WIDENINGS: usize = 3;
 
-/// The real shape of one asperity, as a height relative to its summit.
-#[derive(Clone)]
-pub enum LocalShape {
-    /// A true sphere of radius `radius` (m): `√(R² − r²) − R` for `r < R`,
-    /// `−R` beyond (a floor, as [`bem::spherical_caps`]).
-    Sphere {
-        /// R (m).
-        radius: f64,
-    },
-    /// An elliptic paraboloid `−x²/2Rx − y²/2Ry` (Hertz's geometry).
-    Paraboloid {
-        /// Rx (m).
-        radius_x: f64,
-        /// Ry (m).
-        radius_y: f64,
-    },
-    /// Any shape: `height(dx, dy) ≤ 0` relative to the summit at `(0, 0)`,
-    /// and the radius of curvature of the equivalent sphere at the summit,
-    /// used only to size the local grid.
-    Custom {
-        /// Height relative to the summit (m) at the offset `(dx, dy)` (m).
-        height: Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>,
-        /// Equivalent radius of curvature at the summit (m).
-        equivalent_radius: f64,
-    },
-}
+/// Further widenings with the cell count of the last one (coarser cells).
+const MAX_COARSENINGS: usize = 6;
 
-impl std::fmt::Debug for LocalShape {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Sphere { radius } => f.debug_struct("Sphere").field("radius", radius).finish(),
-            Self::Paraboloid { radius_x, radius_y } => f
-                .debug_struct("Paraboloid")
-                .field("radius_x", radius_x)
-                .field("radius_y", radius_y)
-                .finish(),
-            Self::Custom {
-                equivalent_radius, ..
-            } => f
-                .debug_struct("Custom")
-                .field("equivalent_radius", equivalent_radius)
-                .finish_non_exhaustive(),
-        }
-    }
-}
+mod local;
+mod shape;
 
-impl LocalShape {
-    /// Height (m, ≤ 0) relative to the summit at the offset `(dx, dy)`.
-    pub fn height(&self, dx: f64, dy: f64) -> f64 {
-        match self {
-            Self::Sphere { radius } => {
-                let r2 = dx * dx + dy * dy;
-                let rr = radius * radius;
-                if r2 < rr {
-                    (rr - r2).sqrt() - radius
-                } else {
-                    -radius
-                }
-            }
-            Self::Paraboloid { radius_x, radius_y } => {
-                -(dx * dx / (2.0 * radius_x) + dy * dy / (2.0 * radius_y))
-            }
-            Self::Custom { height, .. } => height(dx, dy),
-        }
-    }
-
-    /// Radius of the equivalent sphere at the summit (m): `R`, `√(Rx Ry)`,
-    /// or the given one.
-    pub fn equivalent_radius(&self) -> f64 {
-        match *self {
-            Self::Sphere { radius } => radius,
-            Self::Paraboloid { radius_x, radius_y } => (radius_x * radius_y).sqrt(),
-            Self::Custom {
-                equivalent_radius, ..
-            } => equivalent_radius,
-        }
-    }
-
-    fn check(&self, index: usize) -> Result<(), TwoScaleError> {
-        let ok = |v: f64| v.is_finite() && v > 0.0;
-        let valid = match *self {
-            Self::Sphere { radius } => ok(radius),
-            Self::Paraboloid { radius_x, radius_y } => ok(radius_x) && ok(radius_y),
-            Self::Custom {
-                equivalent_radius, ..
-            } => ok(equivalent_radius),
-        };
-        if valid {
-            Ok(())
-        } else {
-            Err(TwoScaleError::InvalidInput(format!(
-                "asperity {index}: shape {self:?} needs finite radii > 0"
-            )))
-        }
-    }
-}
+use local::solve_local;
+pub use shape::LocalShape;
 
 /// Options of [`two_scale`].
 #[derive(Debug, Clone, PartialEq)]
@@ -228,6 +151,53 @@ pub struct LocalField {
     /// The local pressure field on a grid centred on the summit (real
     /// coordinates); `None` out of contact.
     pub field: Option<PressureField>,
+    /// How the field was obtained (a fallback is recorded, not an error).
+    pub status: LocalStatus,
+}
+
+/// How an asperity's local field was obtained.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LocalStatus {
+    /// The local BEM contact lies inside its grid (or nothing touches).
+    Complete,
+    /// The contact still reaches the edge of the widest local grid (its
+    /// half-width in Hertz radii): the field is that grid's BEM solution,
+    /// carrying the exact force, on an area cut by the edge.
+    ClippedAtEdge {
+        /// Half-width of the widest grid, in Hertz radii.
+        half_width: f64,
+    },
+    /// The local BEM solve failed: Hertz's field for the equivalent radius,
+    /// carrying the exact force.
+    HertzFallback {
+        /// Why the BEM solve failed.
+        reason: String,
+    },
+}
+
+impl LocalStatus {
+    /// A short name for tables: `complete`, `clipped`, `hertz`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Complete => "complete",
+            Self::ClippedAtEdge { .. } => "clipped",
+            Self::HertzFallback { .. } => "hertz",
+        }
+    }
+}
+
+impl std::fmt::Display for LocalStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Complete => f.write_str("complete"),
+            Self::ClippedAtEdge { half_width } => write!(
+                f,
+                "contact still at the edge of the widest local grid \
+                 (half-width {half_width:.3} × the Hertz radius): area cut by the edge"
+            ),
+            Self::HertzFallback { reason } => write!(f, "Hertz field instead of BEM: {reason}"),
+        }
+    }
 }
 
 /// Result of [`two_scale`].
@@ -238,6 +208,17 @@ pub struct TwoScale {
     /// The assembled pressure map of the whole patch; `None` if no asperity
     /// carries a force.
     pub map: Option<PressureField>,
+}
+
+impl TwoScale {
+    /// The asperities (index, status) whose field is a fallback.
+    pub fn fallbacks(&self) -> impl Iterator<Item = (usize, &LocalStatus)> {
+        self.local
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.status != LocalStatus::Complete)
+            .map(|(k, l)| (k, &l.status))
+    }
 }
 
 /// What can go wrong in [`two_scale`].
@@ -255,16 +236,6 @@ pub enum TwoScaleError {
         /// The BEM error.
         #[source]
         source: BemError,
-    },
-    /// The contact still reaches the edge of the local grid after widening it.
-    #[error(
-        "asperity {index}: the contact reaches the edge of the local grid (half-width {half_width} × the Hertz radius); the shape is far blunter than its equivalent radius says"
-    )]
-    DomainTooSmall {
-        /// Asperity index.
-        index: usize,
-        /// Last half-width tried (in Hertz radii).
-        half_width: f64,
     },
     /// The global map would be too large.
     #[error("the pressure map would have {cells} cells, more than the limit {limit}")]
@@ -308,9 +279,7 @@ pub fn two_scale_solution<L: ContactLaw>(
 /// # Errors
 /// [`TwoScaleError::InvalidInput`] for mismatched lengths, non-finite
 /// positions, negative or non-finite forces, invalid shapes or options;
-/// [`TwoScaleError::Bem`] if a local solve fails;
-/// [`TwoScaleError::DomainTooSmall`] if a contact keeps reaching the edge of
-/// its grid; [`TwoScaleError::MapTooLarge`] if the map exceeds
+/// [`TwoScaleError::MapTooLarge`] if the map exceeds
 /// [`TwoScaleOptions::max_map_cells`].
 pub fn two_scale(
     positions: &[[f64; 2]],
@@ -425,99 +394,6 @@ pub fn two_scale(
     Ok(TwoScale { local, map })
 }
 
-/// Cells of a local grid of half-width `half_width` Hertz radii (odd).
-fn local_cells(half_width: f64, cells_across: usize) -> usize {
-    2 * (half_width * cells_across as f64 / 2.0).ceil() as usize + 1
-}
-
-/// Solves one asperity. `cache` keeps the canonical solver of the worker.
-#[allow(clippy::too_many_arguments)]
-fn solve_local(
-    index: usize,
-    centre: [f64; 2],
-    force: f64,
-    shape: &LocalShape,
-    material: &Material,
-    bem_options: &BemOptions,
-    options: &TwoScaleOptions,
-    cache: &mut Option<bem::Solver>,
-) -> Result<LocalField, TwoScaleError> {
-    let hertz_radius =
-        (3.0 * force * shape.equivalent_radius() / (4.0 * material.reduced_modulus())).cbrt();
-    if force == 0.0 {
-        return Ok(LocalField {
-            centre,
-            force: 0.0,
-            radius: 0.0,
-            semi_axes: [0.0, 0.0],
-            contact_area: 0.0,
-            max_pressure: 0.0,
-            approach: 0.0,
-            hertz_radius,
-            iterations: 0,
-            field: None,
-        });
-    }
-    let bem_err = |source: BemError| TwoScaleError::Bem { index, source };
-    // Real cell size; the scale s maps the real problem onto the canonical one.
-    let cell = 2.0 * hertz_radius / options.cells_across as f64;
-    let s = cell / CANONICAL_CELL;
-    let mut half_width = options.half_width;
-    for _ in 0..=MAX_WIDENINGS {
-        let m = local_cells(half_width, options.cells_across);
-        let canonical =
-            Grid::centered(m, m, CANONICAL_CELL, CANONICAL_CELL).map_err(|e| bem_err(e.into()))?;
-        let reuse = cache.as_ref().is_some_and(|c| c.grid().nx() == m);
-        if !reuse {
-            *cache = Some(bem::Solver::new(&canonical, material, bem_options).map_err(bem_err)?);
-        }
-        let solver = cache
-            .as_mut()
-            .ok_or_else(|| TwoScaleError::InvalidInput("no local solver".into()))?;
-        let surface = HeightMap::from_fn(canonical.clone(), |x, y| shape.height(x * s, y * s) / s)
-            .map_err(|e| bem_err(e.into()))?;
-        let sol = solver
-            .solve(&surface, bem::Control::Load(force / (s * s)))
-            .map_err(bem_err)?;
-        let touches_edge = (0..m).any(|t| {
-            sol.pressure[canonical.index(t, 0)] > 0.0
-                || sol.pressure[canonical.index(t, m - 1)] > 0.0
-                || sol.pressure[canonical.index(0, t)] > 0.0
-                || sol.pressure[canonical.index(m - 1, t)] > 0.0
-        });
-        if touches_edge {
-            half_width *= 1.5;
-            continue;
-        }
-        let region = sol
-            .regions(&vec![0; canonical.len()])
-            .map_err(bem_err)?
-            .into_iter()
-            .next()
-            .unwrap_or_default();
-        let half = (m / 2) as f64 * cell;
-        let grid = Grid::new(m, m, cell, cell)
-            .and_then(|g| g.with_origin([centre[0] - half, centre[1] - half]))
-            .map_err(|e| bem_err(e.into()))?;
-        let field = Field::new(grid, sol.pressure).map_err(|e| bem_err(e.into()))?;
-        return Ok(LocalField {
-            centre,
-            force: field.integral(),
-            radius: region.equivalent_radius * s,
-            semi_axes: [region.semi_axes[0] * s, region.semi_axes[1] * s],
-            contact_area: region.contact_area * s * s,
-            max_pressure: region.max_pressure,
-            // The summit is the highest point of the canonical surface, so
-            // the solver's reference is the summit.
-            approach: sol.approach * s,
-            hertz_radius,
-            iterations: sol.iterations,
-            field: Some(field),
-        });
-    }
-    Err(TwoScaleError::DomainTooSmall { index, half_width })
-}
-
 /// Conservative remap of every local field onto one global grid.
 fn assemble(
     local: &[LocalField],
@@ -622,7 +498,7 @@ mod tests {
 
     #[test]
     fn local_grid_is_odd() {
-        assert_eq!(local_cells(2.0, 64), 129);
-        assert_eq!(local_cells(1.5, 64), 97);
+        assert_eq!(local::local_cells(2.0, 64), 129);
+        assert_eq!(local::local_cells(1.5, 64), 97);
     }
 }
