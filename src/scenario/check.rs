@@ -100,8 +100,23 @@ pub fn check_name(name: &str) -> Result<(), ScenarioError> {
     }
 }
 
-/// Checks every value of `scenario` (see the module doc).
+/// Checks that the sections name one road, then every value of `scenario`
+/// (see the module doc).
 pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
+    let synthetic_road = scenario
+        .rolling
+        .as_ref()
+        .is_some_and(|r| r.synthetic_road.is_some());
+    let invalid = |what: &str| Err(ScenarioError::Invalid(what.into()));
+    if scenario.texture.is_some() && !scenario.asperities.is_empty() {
+        return invalid("[texture] and [[asperity]] both given: choose one");
+    }
+    if scenario.texture.is_some() && synthetic_road {
+        return invalid("[texture] and [rolling.synthetic_road] both given: choose one");
+    }
+    if scenario.asperities.is_empty() && !synthetic_road && scenario.texture.is_none() {
+        return invalid("no [[asperity]] given");
+    }
     check_name(&scenario.name)?;
     in_range(
         "[material] youngs_modulus",

@@ -90,6 +90,49 @@ pub enum ScenarioResult {
 }
 
 impl Scenario {
+    /// Parses a scenario and checks every value (`check`): errors name the
+    /// offending key (and its line, for TOML errors).
+    ///
+    /// `origin` (a path or a label) prefixes the messages.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Parse`] for malformed TOML or unknown keys,
+    /// [`ScenarioError::Value`] for a value out of its range,
+    /// [`ScenarioError::Invalid`] for inconsistent sections.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
+        let scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
+            origin: origin.into(),
+            message: e.to_string(),
+        })?;
+        check::check(&scenario).map_err(|e| match e {
+            ScenarioError::Value {
+                key,
+                value,
+                expected,
+            } => ScenarioError::Value {
+                key: format!("{origin}: {key}"),
+                value,
+                expected,
+            },
+            ScenarioError::Invalid(what) => {
+                ScenarioError::Invalid(format!("scenario {origin}: {what}"))
+            }
+            other => other,
+        })?;
+        Ok(scenario)
+    }
+
+    /// Reads and parses a scenario file.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Io`] if the file cannot be read, else as
+    /// [`Scenario::parse`].
+    pub fn from_path(path: impl AsRef<std::path::Path>) -> Result<Self, ScenarioError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(ScenarioError::io("reading", path))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
     /// Runs the scenario: a `[rolling]` run when it has that section (on its
     /// texture, asperities or synthetic road), else its `[static]` loads on
     /// its `[texture]` or its `[[asperity]]` list.

@@ -341,51 +341,6 @@ pub struct AsperitySpec {
 }
 
 impl Scenario {
-    /// Parses a scenario; errors name the offending key and its line.
-    ///
-    /// `origin` (a path or a label) prefixes the messages.
-    pub fn parse(text: &str, origin: &str) -> Result<Self> {
-        let scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
-            origin: origin.into(),
-            message: e.to_string(),
-        })?;
-        let invalid =
-            |what: &str| Err(ScenarioError::Invalid(format!("scenario {origin}: {what}")));
-        let synthetic_road = scenario
-            .rolling
-            .as_ref()
-            .is_some_and(|r| r.synthetic_road.is_some());
-        if scenario.texture.is_some() && !scenario.asperities.is_empty() {
-            return invalid("[texture] and [[asperity]] both given: choose one");
-        }
-        if scenario.texture.is_some() && synthetic_road {
-            return invalid("[texture] and [rolling.synthetic_road] both given: choose one");
-        }
-        if scenario.asperities.is_empty() && !synthetic_road && scenario.texture.is_none() {
-            return invalid("no [[asperity]] given");
-        }
-        super::check::check(&scenario).map_err(|e| match e {
-            ScenarioError::Value {
-                key,
-                value,
-                expected,
-            } => ScenarioError::Value {
-                key: format!("{origin}: {key}"),
-                value,
-                expected,
-            },
-            other => other,
-        })?;
-        Ok(scenario)
-    }
-
-    /// Reads and parses a scenario file.
-    pub fn from_path(path: impl AsRef<Path>) -> Result<Self> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(ScenarioError::io("reading", path))?;
-        Self::parse(&text, &path.display().to_string())
-    }
-
     /// The material, validated.
     pub fn material(&self) -> Result<Material> {
         Material::new(

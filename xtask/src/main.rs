@@ -15,8 +15,8 @@ mod pressure_image;
 mod rolling_cmd;
 mod statics;
 mod texture_cmd;
-mod texture_roads_cmd;
 mod texture_static;
+mod texture_synth;
 mod validate;
 
 use std::path::{Path, PathBuf};

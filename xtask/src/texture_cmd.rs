@@ -11,6 +11,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use tyreroad::texture;
 
+use crate::texture_synth::GridArgs;
+
 /// Subcommands of `cargo xtask texture`.
 #[derive(Debug, Clone, clap::Subcommand)]
 pub enum TextureCommand {
@@ -30,29 +32,6 @@ pub enum TextureCommand {
         #[command(subcommand)]
         kind: SynthKind,
     },
-}
-
-/// Grid and output options shared by the synthesis subcommands.
-#[derive(Debug, Clone, clap::Args)]
-pub struct GridArgs {
-    /// Points along x (the driving direction).
-    #[arg(long, default_value_t = 800)]
-    pub nx: usize,
-    /// Points along y.
-    #[arg(long, default_value_t = 400)]
-    pub ny: usize,
-    /// Spacing along x and y (m).
-    #[arg(long, default_value_t = 0.25e-3)]
-    pub dx: f64,
-    /// Seed of the random generator.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// X3P z data type: I (int16), L (int32), F (float32) or D (float64).
-    #[arg(long, default_value = "D")]
-    pub data_type: String,
-    /// Output X3P file.
-    #[arg(long)]
-    pub out: PathBuf,
 }
 
 /// Kinds of synthetic surface.
@@ -101,7 +80,7 @@ pub enum SynthKind {
     /// The hard road kinds (tining, brushed, exposed aggregate, porous
     /// asphalt, worn chip seal, pavé).
     #[command(flatten)]
-    Road(crate::texture_roads_cmd::RoadKind),
+    Road(crate::texture_synth::RoadKind),
 }
 
 fn parse_grading(s: &str) -> Result<Vec<(f64, f64)>> {

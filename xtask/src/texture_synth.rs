@@ -1,12 +1,36 @@
-//! `cargo xtask texture synth <road kind> ...`: the hard road kinds of
+//! The arguments of `cargo xtask texture synth`: the grid and output
+//! options every kind shares, and the hard road kinds of
 //! `tyreroad_texture::roads` (docs/texture.md), each with its physical
-//! defaults; the options override the main parameters.
+//! defaults, the options overriding the main parameters.
+
+use std::path::PathBuf;
 
 use anyhow::Result;
 use tyreroad::texture;
 use tyreroad::texture::roads::{self, RoadGrid};
 
-use crate::texture_cmd::GridArgs;
+/// Grid and output options shared by the synthesis subcommands.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GridArgs {
+    /// Points along x (the driving direction).
+    #[arg(long, default_value_t = 800)]
+    pub nx: usize,
+    /// Points along y.
+    #[arg(long, default_value_t = 400)]
+    pub ny: usize,
+    /// Spacing along x and y (m).
+    #[arg(long, default_value_t = 0.25e-3)]
+    pub dx: f64,
+    /// Seed of the random generator.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// X3P z data type: I (int16), L (int32), F (float32) or D (float64).
+    #[arg(long, default_value = "D")]
+    pub data_type: String,
+    /// Output X3P file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
 
 /// Groove options shared by the two tinings.
 #[derive(Debug, Clone, clap::Args)]
