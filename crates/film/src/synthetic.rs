@@ -1,5 +1,6 @@
-//! Synthetic films: pressure maps (core fields), Hertzian prints, rendering through the
-//! calibration to a scan, and the synthetic round trip of an experiment.
+//! Synthetic films: pressure maps (core fields), Hertzian prints, rendering
+//! through the calibration to a scan, and the synthetic round trip of an
+//! experiment.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -36,7 +37,9 @@ pub fn covering_grid(
     pixel_size: f64,
 ) -> Result<Grid> {
     let s = check_positive("pixel size", pixel_size)?;
-    // A non-finite width saturates the count and the grid refuses it.
+    // Bad rectangles end in the grid's errors, not in a huge allocation: an
+    // infinite or too wide span saturates the count past MAX_CELLS, a NaN
+    // gives one cell at a NaN origin.
     let nx = ((x_max - x_min) / s).ceil().max(1.0) as usize;
     let ny = ((y_max - y_min) / s).ceil().max(1.0) as usize;
     let grid = Grid::new(nx, ny, s, s)?;
