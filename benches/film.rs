@@ -6,8 +6,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use tyreroad_film::{
-    AnalysisOptions, Calibration, FilmResponse, HertzPrint, Layout, LlwCurve, Origin, PressureMap,
-    RenderOptions, Scanner, analyse, match_layout, paper_hertz_rows, render,
+    AnalysisOptions, Calibration, FilmResponse, HertzPrint, Layout, LlwCurve, Origin,
+    RenderOptions, Scanner, analyse, hertz_pressure_map, match_layout, paper_hertz_rows, render,
 };
 
 fn bench_film(c: &mut Criterion) {
@@ -25,8 +25,7 @@ fn bench_film(c: &mut Criterion) {
             radius: r.radius_m,
         })
         .collect();
-    let mut map = PressureMap::new(2000, 2000, 22e-6).expect("map");
-    map.add_hertz(&prints).expect("prints");
+    let map = hertz_pressure_map(&prints, 2000, 2000, 22e-6).expect("map");
     let options = RenderOptions {
         grain_sigma: 0.01,
         blur_sigma_px: 1.0,

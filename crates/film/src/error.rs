@@ -42,6 +42,10 @@ pub enum FilmError {
         /// What it must satisfy.
         requirement: &'static str,
     },
+    /// A pressure map's grid or values do not fit (sizes, spacings, a
+    /// non-finite pressure, pixels that are not square).
+    #[error("invalid pressure map: {0}")]
+    InvalidPressureMap(String),
     /// A file could not be read or written.
     #[error("cannot access {path}: {reason}")]
     Io {
@@ -102,31 +106,30 @@ pub enum FilmError {
 /// Shorthand for results of this crate.
 pub type Result<T> = std::result::Result<T, FilmError>;
 
-/// A core validator's error in this crate's terms: the quantity, its value
-/// and what it should be (the validators only report invalid values).
-fn parameter_error(e: tyreroad_core::CoreError) -> FilmError {
-    match e {
-        tyreroad_core::CoreError::InvalidValue {
-            name,
-            value,
-            expected,
-        } => FilmError::InvalidParameter {
-            name,
-            value,
-            requirement: expected,
-        },
-        _ => FilmError::InvalidParameter {
-            name: "value",
-            value: f64::NAN,
-            requirement: "valid",
-        },
+/// A core error in this crate's terms: an invalid scalar keeps its name,
+/// value and requirement; a grid or field that does not fit is named as a
+/// pressure map.
+impl From<tyreroad_core::CoreError> for FilmError {
+    fn from(e: tyreroad_core::CoreError) -> Self {
+        match e {
+            tyreroad_core::CoreError::InvalidValue {
+                name,
+                value,
+                expected,
+            } => Self::InvalidParameter {
+                name,
+                value,
+                requirement: expected,
+            },
+            other => Self::InvalidPressureMap(other.to_string()),
+        }
     }
 }
 
 pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64> {
-    tyreroad_core::validate::positive(name, value).map_err(parameter_error)
+    Ok(tyreroad_core::validate::positive(name, value)?)
 }
 
 pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64> {
-    tyreroad_core::validate::non_negative(name, value).map_err(parameter_error)
+    Ok(tyreroad_core::validate::non_negative(name, value)?)
 }

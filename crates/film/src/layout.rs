@@ -3,6 +3,8 @@
 use std::path::Path;
 
 use crate::analysis::Detection;
+use tyreroad_core::Grid;
+
 use crate::error::{FilmError, Result};
 
 /// One indenter: its number and expected position (m) in the film frame.
@@ -167,6 +169,33 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The frame of a scan rendered from a pressure map on `grid` (see
+    /// [`crate::render`]): image row `r` holds the grid's row `ny − 1 − r`,
+    /// so the top edge of the image is the grid's top edge
+    /// `y = y0 + (ny − ½)·s` and its left edge `x = x0 − ½·s`, where
+    /// `(x0, y0)` is the centre of the grid's cell `(0, 0)`.
+    ///
+    /// # Errors
+    /// [`FilmError::InvalidPressureMap`] if the grid's cells are not square
+    /// (`dx ≠ dy`): a scan has one pixel size.
+    pub fn of_grid(grid: &Grid) -> Result<Self> {
+        let s = square_pixel_size(grid)?;
+        let [x0, y0] = grid.origin();
+        Ok(Self {
+            pixel_size: s,
+            origin_col: 0.5 - x0 / s,
+            origin_row: y0 / s + grid.ny() as f64 - 0.5,
+        })
+    }
+
+    /// The film origin as an [`Origin`] for [`match_layout`].
+    pub fn origin(&self) -> Origin {
+        Origin::Pixel {
+            col: self.origin_col,
+            row: self.origin_row,
+        }
+    }
+
     /// Film coordinates (m) of a pixel position.
     pub fn to_film(&self, col: f64, row: f64) -> (f64, f64) {
         (
@@ -410,4 +439,18 @@ pub fn detect_grid(detection: &Detection) -> Result<Layout> {
         }
     }
     Layout::new(v)
+}
+
+/// The pixel side of a pressure map's grid, whose cells must be square: a
+/// scan and its frame have one pixel size.
+pub(crate) fn square_pixel_size(grid: &Grid) -> Result<f64> {
+    if grid.dx() == grid.dy() {
+        Ok(grid.dx())
+    } else {
+        Err(FilmError::InvalidPressureMap(format!(
+            "pixels must be square, got dx = {} m, dy = {} m",
+            grid.dx(),
+            grid.dy()
+        )))
+    }
 }

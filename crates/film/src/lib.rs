@@ -71,7 +71,11 @@
 //! - ellipses have `semi_major ≥ semi_minor ≥ 0`, orientation in `(−π/2, π/2]`;
 //! - user input (files, CSVs, layouts, calibrations) never panics: every
 //!   failure is a [`FilmError`] naming the problem;
-//! - renders are reproducible from their seed.
+//! - renders are reproducible from their seed;
+//! - a synthetic pressure map is a core [`Field`](tyreroad_core::Field) of
+//!   square pixels, y up like every grid of the project ([`pixel_grid`],
+//!   [`covering_grid`], [`add_hertz`]); scans run downward, and the row flip
+//!   lives only in [`render`] and [`Frame::of_grid`].
 //!
 //! # Example
 //!
@@ -136,6 +140,6 @@ pub use error::{FilmError, Result};
 pub use layout::{Frame, Indenter, Layout, Match, Matching, Origin, detect_grid, match_layout};
 pub use scan::{Channel, Scan};
 pub use synthetic::{
-    HertzPrint, PressureMap, RenderOptions, SyntheticLoad, SyntheticOptions, hertz_pressure_map,
-    paper_hertz_rows, render, synthetic_round_trip,
+    HertzPrint, RenderOptions, SyntheticLoad, SyntheticOptions, add_hertz, covering_grid,
+    hertz_pressure_map, paper_hertz_rows, pixel_grid, render, synthetic_round_trip,
 };

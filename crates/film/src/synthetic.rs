@@ -1,125 +1,102 @@
-//! Synthetic films: pressure maps, Hertzian prints, rendering through the
-//! calibration to a scan, and the synthetic round trip of an experiment.
+//! Synthetic films: pressure maps (core fields), Hertzian prints, rendering
+//! through the calibration to a scan, and the synthetic round trip of an
+//! experiment.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use tyreroad_core::{Field, Grid};
 
 use crate::analysis::{AnalysisOptions, Estimator, analyse};
 use crate::calibration::{Calibration, FilmResponse, LlwCurve, Scanner};
 use crate::compare::{Comparison, ModelRow, compare, layout_of, loads, measurements, rows_at_load};
 use crate::error::{FilmError, Result, check_non_negative, check_positive};
-use crate::layout::{Frame, Origin, match_layout};
+use crate::layout::{Frame, match_layout, square_pixel_size};
 use crate::scan::Scan;
 
-/// A pressure map on a regular grid: `nx × ny` pixels of side `pixel_size`
-/// (m), pressures in Pa, row-major from the top-left pixel (row `j`, column
-/// `i` at index `j·nx + i`). Pixel `(i, j)` is centred at film coordinates
-/// `x = x0 + (i + ½)·s`, `y = y0 − (j + ½)·s` (x right, y up: rows go down).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PressureMap {
-    /// Columns.
-    pub nx: usize,
-    /// Rows.
-    pub ny: usize,
-    /// Pixel side `s`, m.
-    pub pixel_size: f64,
-    /// Film x of the left edge, m.
-    pub x0: f64,
-    /// Film y of the top edge, m.
-    pub y0: f64,
-    /// Pressures, Pa, row-major.
-    pub data: Vec<f64>,
+/// The grid of a pressure map of `nx × ny` square pixels of side
+/// `pixel_size` (m), centred on the film origin.
+///
+/// A film pressure map is a core [`Field`] (Pa) on such a grid: cell
+/// `(i, j)` centred at film coordinates `(x0 + i·s, y0 + j·s)`, x right and
+/// y up, row `j = 0` at the bottom. Scans run the other way (row 0 at the
+/// top); [`render`] does the row flip and [`Frame::of_grid`] gives the scan's
+/// frame.
+pub fn pixel_grid(nx: usize, ny: usize, pixel_size: f64) -> Result<Grid> {
+    check_positive("pixel size", pixel_size)?;
+    Ok(Grid::centered(nx, ny, pixel_size, pixel_size)?)
 }
 
-impl PressureMap {
-    /// A zero map of `nx × ny` pixels centred on the film origin.
-    pub fn new(nx: usize, ny: usize, pixel_size: f64) -> Result<Self> {
-        check_positive("pixel size", pixel_size)?;
-        if nx == 0 || ny == 0 {
+/// The grid of a pressure map covering `[x_min, x_max] × [y_min, y_max]`
+/// (m) with square pixels of side `pixel_size`: `⌈width / s⌉` pixels (at
+/// least 1) each way, centred on that rectangle.
+pub fn covering_grid(
+    x_min: f64,
+    x_max: f64,
+    y_min: f64,
+    y_max: f64,
+    pixel_size: f64,
+) -> Result<Grid> {
+    let s = check_positive("pixel size", pixel_size)?;
+    // Bad rectangles end in the grid's errors, not in a huge allocation: an
+    // infinite or too wide span saturates the count past MAX_CELLS, a NaN
+    // gives one cell at a NaN origin.
+    let nx = ((x_max - x_min) / s).ceil().max(1.0) as usize;
+    let ny = ((y_max - y_min) / s).ceil().max(1.0) as usize;
+    let grid = Grid::new(nx, ny, s, s)?;
+    let x0 = 0.5 * (x_min + x_max) - 0.5 * (nx as f64 - 1.0) * s;
+    let y0 = 0.5 * (y_min + y_max) - 0.5 * (ny as f64 - 1.0) * s;
+    Ok(grid.with_origin([x0, y0])?)
+}
+
+/// `map` with Hertzian prints added (pressures sum where prints overlap;
+/// invalid cells of a masked map stay invalid).
+pub fn add_hertz(map: Field, prints: &[HertzPrint]) -> Result<Field> {
+    let grid = map.grid().clone();
+    let mask = map.mask().map(<[bool]>::to_vec);
+    let mut values = map.into_values();
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let [x0, y0] = grid.origin();
+    let (dx, dy) = (grid.dx(), grid.dy());
+    // First and one-past-last cell whose centre can fall in [lo, hi].
+    let span = |lo: f64, hi: f64, origin: f64, d: f64, n: usize| {
+        let first = (((lo - origin) / d + 0.5).floor().max(0.0) as usize).min(n);
+        let end = (((hi - origin) / d + 0.5).ceil().max(0.0) as usize).min(n);
+        first..end
+    };
+    for h in prints {
+        check_positive("Hertz contact radius", h.radius)?;
+        check_non_negative("Hertz force", h.force)?;
+        if !(h.x.is_finite() && h.y.is_finite()) {
             return Err(FilmError::InvalidParameter {
-                name: "pressure map size",
-                value: (nx.min(ny)) as f64,
-                requirement: "at least 1 × 1",
+                name: "Hertz print position",
+                value: if h.x.is_finite() { h.y } else { h.x },
+                requirement: "finite",
             });
         }
-        Ok(Self {
-            nx,
-            ny,
-            pixel_size,
-            x0: -0.5 * nx as f64 * pixel_size,
-            y0: 0.5 * ny as f64 * pixel_size,
-            data: vec![0.0; nx * ny],
-        })
-    }
-
-    /// A zero map covering `[x_min, x_max] × [y_min, y_max]` (m), centred on
-    /// that rectangle.
-    pub fn covering(
-        x_min: f64,
-        x_max: f64,
-        y_min: f64,
-        y_max: f64,
-        pixel_size: f64,
-    ) -> Result<Self> {
-        check_positive("pixel size", pixel_size)?;
-        let nx = ((x_max - x_min) / pixel_size).ceil().max(1.0) as usize;
-        let ny = ((y_max - y_min) / pixel_size).ceil().max(1.0) as usize;
-        let mut m = Self::new(nx, ny, pixel_size)?;
-        m.x0 = 0.5 * (x_min + x_max) - 0.5 * nx as f64 * pixel_size;
-        m.y0 = 0.5 * (y_min + y_max) + 0.5 * ny as f64 * pixel_size;
-        Ok(m)
-    }
-
-    /// The film frame of a scan rendered from this map.
-    pub fn frame(&self) -> Frame {
-        Frame {
-            pixel_size: self.pixel_size,
-            origin_col: -self.x0 / self.pixel_size,
-            origin_row: self.y0 / self.pixel_size,
+        let p0 = h.peak_pressure();
+        if !p0.is_finite() {
+            return Err(FilmError::InvalidParameter {
+                name: "Hertz peak pressure",
+                value: p0,
+                requirement: "finite (force / radius² too large)",
+            });
         }
-    }
-
-    /// The film origin as an [`Origin`] for [`match_layout`].
-    pub fn origin(&self) -> Origin {
-        let f = self.frame();
-        Origin::Pixel {
-            col: f.origin_col,
-            row: f.origin_row,
-        }
-    }
-
-    /// Adds Hertzian prints (pressures sum where prints overlap).
-    pub fn add_hertz(&mut self, prints: &[HertzPrint]) -> Result<()> {
-        let s = self.pixel_size;
-        for h in prints {
-            check_positive("Hertz contact radius", h.radius)?;
-            check_non_negative("Hertz force", h.force)?;
-            if !(h.x.is_finite() && h.y.is_finite()) {
-                return Err(FilmError::InvalidParameter {
-                    name: "Hertz print position",
-                    value: if h.x.is_finite() { h.y } else { h.x },
-                    requirement: "finite",
-                });
-            }
-            let p0 = h.peak_pressure();
-            let a2 = h.radius * h.radius;
-            let i0 = (((h.x - h.radius - self.x0) / s).floor().max(0.0) as usize).min(self.nx);
-            let i1 = (((h.x + h.radius - self.x0) / s).ceil().max(0.0) as usize).min(self.nx);
-            let j0 = (((self.y0 - h.y - h.radius) / s).floor().max(0.0) as usize).min(self.ny);
-            let j1 = (((self.y0 - h.y + h.radius) / s).ceil().max(0.0) as usize).min(self.ny);
-            for j in j0..j1 {
-                let y = self.y0 - (j as f64 + 0.5) * s;
-                for i in i0..i1 {
-                    let x = self.x0 + (i as f64 + 0.5) * s;
-                    let r2 = (x - h.x).powi(2) + (y - h.y).powi(2);
-                    if r2 < a2 {
-                        self.data[j * self.nx + i] += p0 * (1.0 - r2 / a2).sqrt();
-                    }
+        let a2 = h.radius * h.radius;
+        let columns = span(h.x - h.radius, h.x + h.radius, x0, dx, nx);
+        for j in span(h.y - h.radius, h.y + h.radius, y0, dy, ny) {
+            let y = grid.y(j);
+            for i in columns.clone() {
+                let r2 = (grid.x(i) - h.x).powi(2) + (y - h.y).powi(2);
+                if r2 < a2 {
+                    values[grid.index(i, j)] += p0 * (1.0 - r2 / a2).sqrt();
                 }
             }
         }
-        Ok(())
     }
+    Ok(match mask {
+        Some(mask) => Field::with_mask(grid, values, mask)?,
+        None => Field::new(grid, values)?,
+    })
 }
 
 /// A Hertzian print: centre (m), force `P` (N) and contact radius `a` (m);
@@ -143,16 +120,16 @@ impl HertzPrint {
     }
 }
 
-/// The pressure map of Hertzian prints (see [`PressureMap::add_hertz`]).
+/// The pressure map (Pa) of Hertzian prints on `nx × ny` pixels of side
+/// `pixel_size` centred on the film origin (see [`pixel_grid`],
+/// [`add_hertz`]).
 pub fn hertz_pressure_map(
     prints: &[HertzPrint],
     nx: usize,
     ny: usize,
     pixel_size: f64,
-) -> Result<PressureMap> {
-    let mut m = PressureMap::new(nx, ny, pixel_size)?;
-    m.add_hertz(prints)?;
-    Ok(m)
+) -> Result<Field> {
+    add_hertz(Field::zeros(pixel_grid(nx, ny, pixel_size)?), prints)
 }
 
 /// How a film is rendered to a scan.
@@ -194,8 +171,13 @@ impl Default for RenderOptions {
 /// density); inside it the calibration's response; above it the film
 /// saturates at the top response. The density gets grain noise, is turned
 /// into grey by the scanner relation, blurred, clamped to `[0, 1]` and
-/// quantised. The scan carries the map's pixel size.
-pub fn render(map: &PressureMap, response: &FilmResponse, options: &RenderOptions) -> Result<Scan> {
+/// quantised. Invalid cells of a masked map render as unreacted film. The
+/// scan carries the map's pixel size (the map's pixels must be square); its
+/// row 0 is the map's top row `ny − 1` (see [`Frame::of_grid`]).
+pub fn render(map: &Field, response: &FilmResponse, options: &RenderOptions) -> Result<Scan> {
+    let grid = map.grid();
+    let pixel_size = square_pixel_size(grid)?;
+    let (nx, ny) = (grid.nx(), grid.ny());
     check_non_negative("grain sigma", options.grain_sigma)?;
     check_non_negative("blur sigma", options.blur_sigma_px)?;
     if !options.background_density.is_finite() {
@@ -219,8 +201,10 @@ pub fn render(map: &PressureMap, response: &FilmResponse, options: &RenderOption
     let cal = &response.calibration;
     let scanner = &options.scanner;
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let mut grey: Vec<f64> = Vec::with_capacity(map.data.len());
-    for &p in &map.data {
+    let mut grey: Vec<f64> = Vec::with_capacity(grid.len());
+    // Image rows run downward, the map's rows upward.
+    let image_order = (0..ny).rev().flat_map(|j| map.row(j).iter().copied());
+    for p in image_order {
         let mut d = match cal.response_clamped(p) {
             Some(r) => match cal.response() {
                 crate::calibration::Response::Density => r,
@@ -234,19 +218,13 @@ pub fn render(map: &PressureMap, response: &FilmResponse, options: &RenderOption
         grey.push(scanner.grey(d));
     }
     if options.blur_sigma_px > 0.0 {
-        gaussian_blur(&mut grey, map.nx, map.ny, options.blur_sigma_px);
+        gaussian_blur(&mut grey, nx, ny, options.blur_sigma_px);
     }
     let data: Vec<f32> = grey
         .iter()
         .map(|&g| ((g.clamp(0.0, 1.0) * levels).round() / levels) as f32)
         .collect();
-    Scan::from_grey(
-        map.nx,
-        map.ny,
-        data,
-        Some(map.pixel_size),
-        options.bit_depth,
-    )
+    Scan::from_grey(nx, ny, data, Some(pixel_size), options.bit_depth)
 }
 
 /// A standard normal deviate (Box–Muller).
@@ -382,11 +360,12 @@ pub fn synthetic_round_trip(
             y1 = y1.max(p.y + p.radius);
         }
         let m = options.margin;
-        let mut map = PressureMap::covering(x0 - m, x1 + m, y0 - m, y1 + m, options.pixel_size)?;
-        map.add_hertz(&prints)?;
+        let grid = covering_grid(x0 - m, x1 + m, y0 - m, y1 + m, options.pixel_size)?;
+        let frame = Frame::of_grid(&grid)?;
+        let map = add_hertz(Field::zeros(grid), &prints)?;
         let scan = render(&map, &options.response, &options.render)?;
         let det = analyse(&scan, &options.response, &options.analysis)?;
-        let matching = match_layout(&det, &layout, map.origin(), None)?;
+        let matching = match_layout(&det, &layout, frame.origin(), None)?;
         let cmp = |e: Estimator| -> Result<Comparison> {
             compare(load, &measurements(&det, &matching, e)?, &model)
         };

@@ -4,6 +4,7 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use image::{ImageBuffer, ImageFormat, Luma, Rgb};
+use tyreroad_core::Field;
 use tyreroad_film::*;
 
 fn tmp(name: &str) -> PathBuf {
@@ -180,8 +181,8 @@ fn synthetic_25() -> Result<(Detection, FilmResponse)> {
             radius: r.radius_m,
         })
         .collect();
-    let mut map = PressureMap::covering(-0.025, 0.025, -0.025, 0.025, 60e-6)?;
-    map.add_hertz(&prints)?;
+    let grid = covering_grid(-0.025, 0.025, -0.025, 0.025, 60e-6)?;
+    let map = add_hertz(Field::zeros(grid), &prints)?;
     let scan = render(&map, &film, &RenderOptions::default())?;
     Ok((analyse(&scan, &film, &AnalysisOptions::default())?, film))
 }

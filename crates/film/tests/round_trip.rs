@@ -1,5 +1,6 @@
 //! Synthetic films: render then analyse.
 
+use tyreroad_core::{Field, Grid};
 use tyreroad_film::*;
 
 fn llw_b() -> Result<FilmResponse> {
@@ -148,8 +149,7 @@ fn rendering_is_reproducible_and_seeded() -> Result<()> {
     assert_ne!(a, c);
     // Saturation at both ends: background density where p < p_min, the top
     // density where p > p_max.
-    let mut m = PressureMap::new(2, 1, 1e-4)?;
-    m.data = vec![0.1e6, 5e6];
+    let m = Field::new(pixel_grid(2, 1, 1e-4)?, vec![0.1e6, 5e6])?;
     let s = render(&m, &film, &RenderOptions::default())?;
     let d: Vec<f64> = s
         .grey()
@@ -176,8 +176,8 @@ fn detected_grid_and_layout_matching() -> Result<()> {
             radius: r.radius_m,
         })
         .collect();
-    let mut map = PressureMap::covering(-0.025, 0.025, -0.025, 0.025, 50e-6)?;
-    map.add_hertz(&prints)?;
+    let grid = covering_grid(-0.025, 0.025, -0.025, 0.025, 50e-6)?;
+    let map = add_hertz(Field::zeros(grid), &prints)?;
     let scan = render(&map, &film, &RenderOptions::default())?;
     let det = analyse(&scan, &film, &AnalysisOptions::default())?;
     assert_eq!(det.prints.len(), 25);
@@ -199,5 +199,56 @@ fn detected_grid_and_layout_matching() -> Result<()> {
     assert!((first.x + 0.02).abs() < 1e-5 && (first.y - 0.02).abs() < 1e-5);
     let last = g.indenters()[24];
     assert!((last.x - 0.02).abs() < 1e-5 && (last.y + 0.02).abs() < 1e-5);
+    Ok(())
+}
+
+#[test]
+fn pressure_maps_are_core_fields_with_y_up() -> Result<()> {
+    let film = llw_b()?;
+    // A print above and right of the origin (and inside the 10 mm map): y
+    // up in the map, in the top half of the scan, and back at its place
+    // through the scan's frame.
+    let ball = HertzPrint {
+        x: 1e-3,
+        y: 2e-3,
+        force: 16.0,
+        radius: 1.9e-3,
+    };
+    let map = hertz_pressure_map(&[ball], 400, 400, 25e-6)?;
+    let grid = map.grid().clone();
+    let peak =
+        map.values().iter().enumerate().fold(
+            (0, 0.0),
+            |best, (k, &p)| if p > best.1 { (k, p) } else { best },
+        );
+    let (i, j) = grid.cell(peak.0);
+    assert!((grid.x(i) - 1e-3).abs() < 13e-6 && (grid.y(j) - 2e-3).abs() < 13e-6);
+    let scan = render(&map, &film, &RenderOptions::default())?;
+    let det = analyse(&scan, &film, &AnalysisOptions::default())?;
+    assert_eq!(det.prints.len(), 1);
+    let (col, row) = det.prints[0].centroid_px;
+    assert!(row < 200.0 && col > 200.0, "({col}, {row})");
+    let (x, y) = Frame::of_grid(&grid)?.to_film(col, row);
+    assert!(
+        (x - 1e-3).abs() < 2e-6 && (y - 2e-3).abs() < 2e-6,
+        "({x}, {y})"
+    );
+    // Scans have one pixel size: rectangular cells are refused.
+    let oblong = Field::zeros(Grid::new(2, 2, 1e-4, 2e-4)?);
+    assert!(matches!(
+        render(&oblong, &film, &RenderOptions::default()),
+        Err(FilmError::InvalidPressureMap(_))
+    ));
+    assert!(Frame::of_grid(oblong.grid()).is_err());
+    // A masked cell renders as unreacted film.
+    let masked = Field::from_nan(pixel_grid(2, 1, 1e-4)?, vec![f64::NAN, 5e6])?;
+    let s = render(&masked, &film, &RenderOptions::default())?;
+    let d0 = film.density_of_grey(s.grey()[0] as f64);
+    assert!((d0 - 0.08).abs() < 1e-4, "{d0}");
+    // Rectangles that cannot be covered are errors, not panics.
+    assert!(covering_grid(f64::NAN, 1.0, 0.0, 1.0, 1e-3).is_err());
+    assert!(covering_grid(0.0, f64::INFINITY, 0.0, 1.0, 1e-3).is_err());
+    assert!(covering_grid(0.0, 1.0, 0.0, 1.0, 0.0).is_err());
+    assert!(hertz_pressure_map(&[ball], 0, 10, 25e-6).is_err());
     Ok(())
 }

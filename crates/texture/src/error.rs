@@ -82,27 +82,23 @@ impl TextureError {
     }
 }
 
-pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64, TextureError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(TextureError::InvalidParameter {
-            name,
-            value,
-            requirement: "finite and > 0",
-        })
-    }
-}
-
-pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64, TextureError> {
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(TextureError::InvalidParameter {
-            name,
-            value,
-            requirement: "finite",
-        })
+/// A core validator's error keeps its name, value and requirement (the
+/// messages read as they did when the checks lived here); any other core
+/// error concerns a map's grid or values.
+impl From<tyreroad_core::CoreError> for TextureError {
+    fn from(e: tyreroad_core::CoreError) -> Self {
+        match e {
+            tyreroad_core::CoreError::InvalidValue {
+                name,
+                value,
+                expected,
+            } => Self::InvalidParameter {
+                name,
+                value,
+                requirement: expected,
+            },
+            other => Self::InvalidMap(other.to_string()),
+        }
     }
 }
 

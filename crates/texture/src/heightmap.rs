@@ -1,8 +1,8 @@
 //! The height map: a regular grid of heights with a validity mask.
 
-use tyreroad_core::{CoreError, Field, Grid};
+use tyreroad_core::{CoreError, Field, Grid, validate};
 
-use crate::error::{TextureError, check_positive};
+use crate::error::TextureError;
 
 /// Most grid points a map may hold (2³⁰ ≈ 1.07e9, the core grid's
 /// [`tyreroad_core::MAX_CELLS`]): larger sizes read from a file are refused
@@ -70,8 +70,8 @@ impl HeightMap {
         valid: Vec<bool>,
     ) -> Result<Self, TextureError> {
         check_size(nx, ny)?;
-        check_positive("dx", dx)?;
-        check_positive("dy", dy)?;
+        validate::positive("dx", dx)?;
+        validate::positive("dy", dy)?;
         let grid = Grid::new(nx, ny, dx, dy).map_err(map_error)?;
         let field = Field::with_mask(grid, heights, valid).map_err(map_error)?;
         Ok(Self { field })

@@ -5,8 +5,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use tyreroad_core::spectrum::{periodogram, third_octave_centre, third_octave_edges};
+use tyreroad_core::validate;
 
-use crate::error::{TextureError, check_positive};
+use crate::error::TextureError;
 use crate::heightmap::HeightMap;
 
 /// The ISO 13473-1 baseline (m).
@@ -77,7 +78,7 @@ pub fn mean_segment_depth(seg: &[f64]) -> Option<f64> {
 /// [`Mpd::baseline`]. Segments with more than 10 % missing points are
 /// skipped; an error if none is left or `N < 4`.
 pub fn mean_profile_depth(map: &HeightMap, baseline: Option<f64>) -> Result<Mpd, TextureError> {
-    let baseline = check_positive("MPD baseline", baseline.unwrap_or(MPD_BASELINE))?;
+    let baseline = validate::positive("MPD baseline", baseline.unwrap_or(MPD_BASELINE))?;
     let nx = map.nx();
     let samples = ((baseline / map.dx()).round() as usize).clamp(1, nx);
     if samples < 4 {

@@ -19,7 +19,9 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::error::{TextureError, check_finite, check_positive};
+use tyreroad_core::validate;
+
+use crate::error::TextureError;
 use crate::heightmap::{HeightMap, check_size};
 use crate::synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine};
 
@@ -52,8 +54,8 @@ impl RoadGrid {
     /// spacings; returns the number of points.
     fn check(&self) -> Result<usize, TextureError> {
         let n = check_size(self.nx, self.ny)?;
-        check_positive("dx", self.dx)?;
-        check_positive("dy", self.dy)?;
+        validate::positive("dx", self.dx)?;
+        validate::positive("dy", self.dy)?;
         Ok(n)
     }
 }
@@ -88,7 +90,7 @@ impl Microtexture {
     /// The roughness heights on `grid` (row-major), all zero when `rms` is 0.
     fn heights(&self, grid: &RoadGrid, seed: u64) -> Result<Vec<f64>, TextureError> {
         let n = grid.check()?;
-        check_finite("microtexture rms", self.rms)?;
+        validate::finite("microtexture rms", self.rms)?;
         if self.rms < 0.0 {
             return Err(TextureError::InvalidParameter {
                 name: "microtexture rms",
@@ -126,7 +128,7 @@ fn sub_seed(seed: u64, k: u64) -> u64 {
 }
 
 fn check_fraction(name: &'static str, value: f64, max: f64) -> Result<f64, TextureError> {
-    check_finite(name, value)?;
+    validate::finite(name, value)?;
     if !(0.0..=max).contains(&value) {
         return Err(TextureError::InvalidParameter {
             name,
@@ -218,10 +220,10 @@ impl Tining {
 pub fn tining(p: &Tining) -> Result<HeightMap, TextureError> {
     let g = p.grid;
     g.check()?;
-    check_positive("groove_width", p.groove_width)?;
-    check_positive("groove_depth", p.groove_depth)?;
-    check_positive("pitch", p.pitch.0)?;
-    check_positive("pitch", p.pitch.1)?;
+    validate::positive("groove_width", p.groove_width)?;
+    validate::positive("groove_depth", p.groove_depth)?;
+    validate::positive("pitch", p.pitch.0)?;
+    validate::positive("pitch", p.pitch.1)?;
     if p.pitch.1 < p.pitch.0 {
         return Err(TextureError::InvalidParameter {
             name: "pitch",
@@ -325,7 +327,7 @@ impl BrushedConcrete {
 pub fn brushed_concrete(p: &BrushedConcrete) -> Result<HeightMap, TextureError> {
     let g = p.grid;
     g.check()?;
-    check_finite("elongation", p.elongation)?;
+    validate::finite("elongation", p.elongation)?;
     if !(1.0..=1000.0).contains(&p.elongation) {
         return Err(TextureError::InvalidParameter {
             name: "elongation",
@@ -333,9 +335,9 @@ pub fn brushed_concrete(p: &BrushedConcrete) -> Result<HeightMap, TextureError> 
             requirement: "in [1, 1000]",
         });
     }
-    check_positive("striation_rms", p.striation_rms)?;
-    check_positive("striation_short", p.striation_short)?;
-    check_positive("striation_long", p.striation_long)?;
+    validate::positive("striation_rms", p.striation_rms)?;
+    validate::positive("striation_short", p.striation_short)?;
+    validate::positive("striation_long", p.striation_long)?;
     if p.striation_short >= p.striation_long {
         return Err(TextureError::InvalidParameter {
             name: "striation_short",
@@ -405,7 +407,7 @@ pub fn exposed_aggregate(p: &ExposedAggregate) -> Result<HeightMap, TextureError
     let g = p.grid;
     g.check()?;
     for v in [p.exposure.0, p.exposure.1] {
-        check_finite("exposure", v)?;
+        validate::finite("exposure", v)?;
         if !(v > 0.0 && v <= 1.0) || p.exposure.0 > p.exposure.1 {
             return Err(TextureError::InvalidParameter {
                 name: "exposure",
@@ -485,7 +487,7 @@ impl PorousAsphalt {
 pub fn porous_asphalt(p: &PorousAsphalt) -> Result<HeightMap, TextureError> {
     let g = p.grid;
     g.check()?;
-    check_positive("pore_depth", p.pore_depth)?;
+    validate::positive("pore_depth", p.pore_depth)?;
     check_fraction("plateau_fraction", p.plateau_fraction, 0.9)?;
     let mut chips = Aggregate::new(g.nx, g.ny, g.dx, g.dy, p.grading.clone(), p.seed);
     chips.coverage = p.coverage;
@@ -611,12 +613,12 @@ impl Pave {
 pub fn pave(p: &Pave) -> Result<HeightMap, TextureError> {
     let g = p.grid;
     g.check()?;
-    check_positive("block_length", p.block_length)?;
-    check_positive("block_width", p.block_width)?;
-    check_positive("joint_width", p.joint_width)?;
-    check_positive("joint_depth", p.joint_depth)?;
-    check_positive("edge_radius", p.edge_radius)?;
-    check_finite("height_spread", p.height_spread)?;
+    validate::positive("block_length", p.block_length)?;
+    validate::positive("block_width", p.block_width)?;
+    validate::positive("joint_width", p.joint_width)?;
+    validate::positive("joint_depth", p.joint_depth)?;
+    validate::positive("edge_radius", p.edge_radius)?;
+    validate::finite("height_spread", p.height_spread)?;
     if p.height_spread < 0.0 {
         return Err(TextureError::InvalidParameter {
             name: "height_spread",

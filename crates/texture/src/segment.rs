@@ -5,7 +5,9 @@
 
 use tyreroad_asperity::{CapGeometry, CapMeasures, EllipticParaboloid, TabulatedCap};
 
-use crate::error::{TextureError, check_finite};
+use tyreroad_core::validate;
+
+use crate::error::TextureError;
 use crate::heightmap::HeightMap;
 
 /// Label of a grid point that belongs to no asperity (invalid points, and
@@ -112,8 +114,8 @@ fn find(parent: &mut [usize], mut k: usize) -> usize {
 ///
 /// Each kept asperity then gets its summit paraboloid ([`SummitFit`]).
 pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, TextureError> {
-    check_finite("min_prominence", opts.min_prominence)?;
-    check_finite("min_area", opts.min_area)?;
+    validate::finite("min_prominence", opts.min_prominence)?;
+    validate::finite("min_area", opts.min_area)?;
     let (nx, ny) = (map.nx(), map.ny());
     let h = map.heights();
     let valid = map.valid();

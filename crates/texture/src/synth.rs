@@ -7,7 +7,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rustfft::{FftPlanner, num_complex::Complex};
 
-use crate::error::{TextureError, check_finite, check_positive};
+use tyreroad_core::validate;
+
+use crate::error::TextureError;
 use crate::heightmap::{HeightMap, check_size};
 
 /// A self-affine (fractal) Gaussian surface described by its power spectrum.
@@ -86,11 +88,11 @@ fn freq(k: usize, n: usize) -> f64 {
 /// Synthesise a self-affine surface (see [`SelfAffine`]).
 pub fn self_affine(p: &SelfAffine) -> Result<HeightMap, TextureError> {
     let n = check_size(p.nx, p.ny)?;
-    check_positive("dx", p.dx)?;
-    check_positive("dy", p.dy)?;
-    check_positive("rms", p.rms)?;
-    check_positive("lambda_short", p.lambda_short)?;
-    check_positive("lambda_long", p.lambda_long)?;
+    validate::positive("dx", p.dx)?;
+    validate::positive("dy", p.dy)?;
+    validate::positive("rms", p.rms)?;
+    validate::positive("lambda_short", p.lambda_short)?;
+    validate::positive("lambda_long", p.lambda_long)?;
     if !(p.hurst > 0.0 && p.hurst <= 1.0) {
         return Err(TextureError::InvalidParameter {
             name: "hurst",
@@ -254,8 +256,8 @@ impl Aggregate {
 }
 
 fn check_range(name: &'static str, r: (f64, f64), lo: f64, hi: f64) -> Result<(), TextureError> {
-    check_finite(name, r.0)?;
-    check_finite(name, r.1)?;
+    validate::finite(name, r.0)?;
+    validate::finite(name, r.1)?;
     if r.0 < lo || r.1 > hi || r.0 > r.1 {
         return Err(TextureError::InvalidParameter {
             name,
@@ -371,9 +373,9 @@ fn rotation(azimuth: f64, tilt: f64, tilt_axis: f64) -> [[f64; 3]; 3] {
 /// Synthesise an aggregate surface (see [`Aggregate`]).
 pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
     let n = check_size(p.nx, p.ny)?;
-    check_positive("dx", p.dx)?;
-    check_positive("dy", p.dy)?;
-    check_positive("coverage", p.coverage)?;
+    validate::positive("dx", p.dx)?;
+    validate::positive("dy", p.dy)?;
+    validate::positive("coverage", p.coverage)?;
     if p.coverage > 20.0 {
         return Err(TextureError::InvalidParameter {
             name: "coverage",
@@ -399,7 +401,7 @@ pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
         });
     }
     for (k, &(s, c)) in g.iter().enumerate() {
-        check_positive("grading size", s)?;
+        validate::positive("grading size", s)?;
         check_range("grading percentage", (c, c), 0.0, 100.0)?;
         if k > 0 && (s <= g[k - 1].0 || c < g[k - 1].1) {
             return Err(TextureError::InvalidParameter {
@@ -420,7 +422,7 @@ pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
     let (rounding, cuts) = match p.shape {
         ChipShape::Ellipsoid => (0.0, 0),
         ChipShape::Polyhedron { cuts, rounding } => {
-            check_positive("rounding", rounding)?;
+            validate::positive("rounding", rounding)?;
             if cuts > 64 {
                 return Err(TextureError::InvalidParameter {
                     name: "cuts",

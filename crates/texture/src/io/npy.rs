@@ -14,7 +14,8 @@
 use std::io::Read;
 use std::path::Path;
 
-use crate::error::check_positive;
+use tyreroad_core::validate;
+
 use crate::{HeightMap, TextureError};
 
 const NPY: &str = "NumPy";
@@ -92,8 +93,8 @@ pub fn read_npz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// # Errors
 /// Not a 2-D `float64`/`float32` array, or a spacing that is not > 0.
 pub fn npy_from_bytes(bytes: &[u8], dx: f64, dy: f64) -> Result<HeightMap, TextureError> {
-    check_positive("dx", dx)?;
-    check_positive("dy", dy)?;
+    validate::positive("dx", dx)?;
+    validate::positive("dy", dy)?;
     let (file_shape, values, fortran) = floats_nd(bytes)?;
     let [ny, nx] = file_shape[..] else {
         return Err(TextureError::format(
