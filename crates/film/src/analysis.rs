@@ -6,7 +6,7 @@ use crate::error::{FilmError, Result, check_positive};
 use crate::scan::Scan;
 
 /// Pixel connectivity of a print.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Connectivity {
     /// Edge neighbours only (up, down, left, right).
     Four,
@@ -19,7 +19,7 @@ pub enum Connectivity {
 /// How reacted pixels are separated from the background. A pixel is reacted
 /// when its grey level is strictly below the threshold grey (prints are
 /// darker than the film's background).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Threshold {
     /// Otsu's method on the grey histogram of the whole scan (maximum
     /// between-class variance). Beware: a calibrated print spans a wide
@@ -39,7 +39,7 @@ pub enum Threshold {
 }
 
 /// How a print's force and radius are estimated from its pixels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Estimator {
     /// The paper's way: the mean grey of the print is converted to a mean
     /// pressure through the calibration; force = that pressure × reacted
@@ -57,7 +57,7 @@ pub enum Estimator {
 }
 
 /// Options of [`analyse`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AnalysisOptions {
     /// Threshold method.
     pub threshold: Threshold,
@@ -83,7 +83,7 @@ impl Default for AnalysisOptions {
 
 /// Best-fit ellipse of a print from its second moments, in the film frame
 /// (x to the right, y up), lengths in metres.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ellipse {
     /// Semi-major axis `a`, m.
     pub semi_major: f64,
@@ -122,7 +122,7 @@ impl Ellipse {
 }
 
 /// Result of the Hertzian profile fit of one print.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HertzFit {
     /// Peak pressure `p0`, Pa.
     pub peak_pressure: f64,
@@ -140,7 +140,7 @@ pub struct HertzFit {
 }
 
 /// The measures of one print (a connected component of reacted pixels).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Print {
     /// Component label in [`Detection::labels`].
     pub label: u32,

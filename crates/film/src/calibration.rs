@@ -168,7 +168,7 @@ impl MonotoneCubic {
 
 /// A pressure read through a calibration, with its range flag. A value
 /// outside the calibrated range is flagged, never extrapolated.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Calibrated {
     /// Inside the calibrated range: the pressure, Pa.
     InRange(f64),
@@ -192,7 +192,7 @@ impl Calibrated {
 }
 
 /// What a calibration curve's response variable is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Response {
     /// Optical density `D = −log10(reflectance)` (grows with pressure).
     Density,
@@ -400,7 +400,7 @@ impl Calibration {
 
 /// The four curves of the LLW standard chart (by temperature and humidity of
 /// the test; e.g. 25 °C / 60 %RH → B).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LlwCurve {
     /// Curve A.
     A,
@@ -529,7 +529,7 @@ impl LlwChart {
 /// `white` is the grey level the scanner gives for a perfect white (R = 1,
 /// D = 0) and `black` for no reflected light (R = 0); both are settable, e.g.
 /// from a reference strip scanned with the film. Defaults: white 1, black 0.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scanner {
     /// Grey level of the white reference (D = 0).
     pub white: f64,

@@ -11,7 +11,7 @@ use crate::layout::{Indenter, Layout, Matching};
 pub const MODEL_CSV_HEADER: &str = "load_n,indenter,x_m,y_m,force_n,radius_m";
 
 /// One row of a model run: one indenter at one total load (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModelRow {
     /// Total load, N.
     pub load_n: f64,
@@ -124,7 +124,7 @@ pub fn layout_of(rows: &[ModelRow]) -> Result<Layout> {
 }
 
 /// Measured against model for one indenter.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IndenterComparison {
     /// Indenter number.
     pub indenter: u32,
@@ -143,7 +143,7 @@ pub struct IndenterComparison {
 }
 
 /// Mean of `|ε|` and its sample standard deviation.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AbsErrorStats {
     /// `mean |ε|`.
     pub mean_abs: f64,
@@ -174,7 +174,7 @@ impl AbsErrorStats {
 
 /// One row of the paper's Table 1: a load and the error statistics over its
 /// indenters.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Table1Row {
     /// Total load, N.
     pub load_n: f64,
@@ -187,7 +187,7 @@ pub struct Table1Row {
 }
 
 /// A comparison at one load.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Comparison {
     /// Per indenter, in model-row order.
     pub indenters: Vec<IndenterComparison>,

@@ -8,7 +8,7 @@ use tyreroad_core::Grid;
 use crate::error::{FilmError, Result};
 
 /// One indenter: its number and expected position (m) in the film frame.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Indenter {
     /// Indenter number.
     pub number: u32,
@@ -158,7 +158,7 @@ impl Layout {
 /// ```
 ///
 /// A film scanned face down is mirrored: flip the image before analysis.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Frame {
     /// Pixel size `s`, m.
     pub pixel_size: f64,
@@ -214,7 +214,7 @@ impl Frame {
 }
 
 /// Where the film origin lies in the scan.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Origin {
     /// Given, in continuous pixel coordinates.
     Pixel {
@@ -229,7 +229,7 @@ pub enum Origin {
 }
 
 /// One indenter matched to its print.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Match {
     /// The indenter.
     pub indenter: Indenter,

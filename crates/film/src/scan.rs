@@ -17,7 +17,7 @@ use crate::error::{FilmError, Result, check_positive};
 /// [`Channel::Auto`] therefore uses green for RGB scans and the single
 /// channel of grey scans (a grey scan of a magenta print is a weighted mix in
 /// which green dominates as well). Alpha is ignored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Channel {
     /// Green for colour images, the grey channel for grey images.
     #[default]

@@ -101,7 +101,7 @@ pub fn add_hertz(map: Field, prints: &[HertzPrint]) -> Result<Field> {
 
 /// A Hertzian print: centre (m), force `P` (N) and contact radius `a` (m);
 /// pressure `p(r) = 3P/(2πa²)·√(1 − r²/a²)` for `r < a`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HertzPrint {
     /// Centre x, m.
     pub x: f64,
@@ -133,7 +133,7 @@ pub fn hertz_pressure_map(
 }
 
 /// How a film is rendered to a scan.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderOptions {
     /// Scanner relation between density and grey.
     pub scanner: Scanner,
