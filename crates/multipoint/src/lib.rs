@@ -127,7 +127,7 @@ pub use asperity_set::AsperitySet;
 pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::Boussinesq;
 pub use problem::Problem;
-pub use solution::{Solution, overlapping_contacts, pressure_map};
+pub use solution::{Convergence, Recovery, Solution, overlapping_contacts, pressure_map};
 pub use solver::{Control, LinearSolver, SolverOptions, solve, solve_from};
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_core::Par;
