@@ -1,5 +1,8 @@
 //! Newton–Raphson on the N nonlinear equations, globalised by a line search
-//! and, when that is not enough, by load (or approach) stepping.
+//! and, when that is not enough, by load (or approach) stepping; when both
+//! fail, by the recoveries of docs/theory.md §3 (cold restart, dense
+//! fallback, Levenberg–Marquardt, a continuation accepting stagnated steps)
+//! and the acceptance of a stagnated state.
 //!
 //! The pieces: `options` (what is asked), `start` (where Newton starts),
 //! `newton` (the loop and its globalisation), `secant` (steps across law
@@ -259,20 +262,19 @@ fn solve_attempts<L: ContactLaw + Sync>(
             residual,
             ..
         } => {
-            return Ok(finish(
+            Ok(finish(
                 forces,
                 approach,
                 iterations,
                 steps + 1,
                 residual / scale,
                 Recovery::Continuation,
-            ));
+            ))
         }
-        Continued::Failed { steps, residual } => {
+        Continued::Failed { steps } => {
             let report = NotConverged {
                 iterations,
                 load_steps: steps,
-                residual,
             };
             let mut recoveries = Recoveries {
                 problem,
@@ -352,7 +354,6 @@ const INITIAL_DAMPING: f64 = 1e-3;
 struct NotConverged {
     iterations: usize,
     load_steps: usize,
-    residual: f64,
 }
 
 /// A full-target state (forces, interpenetrations, approach) and its
@@ -575,7 +576,6 @@ enum Continued {
     },
     Failed {
         steps: usize,
-        residual: f64,
     },
 }
 
@@ -611,10 +611,7 @@ fn continuation<L: ContactLaw + Sync>(
     let mut last_residual = f64::INFINITY;
     while s < 1.0 {
         if steps >= options.max_load_steps || step < 1e-9 {
-            return Ok(Continued::Failed {
-                steps,
-                residual: last_residual,
-            });
+            return Ok(Continued::Failed { steps });
         }
         steps += 1;
         let s_next = (s + step).min(1.0);
