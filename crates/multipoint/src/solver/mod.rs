@@ -261,16 +261,14 @@ fn solve_attempts<L: ContactLaw + Sync>(
             steps,
             residual,
             ..
-        } => {
-            Ok(finish(
-                forces,
-                approach,
-                iterations,
-                steps + 1,
-                residual / scale,
-                Recovery::Continuation,
-            ))
-        }
+        } => Ok(finish(
+            forces,
+            approach,
+            iterations,
+            steps + 1,
+            residual / scale,
+            Recovery::Continuation,
+        )),
         Continued::Failed { steps } => {
             let report = NotConverged {
                 iterations,
