@@ -30,8 +30,15 @@
 //! approach) is applied in adaptive steps from first contact. Convergence is
 //! declared on the force-form residuals `R_i = P_i − P_i^law(δ0 − H_i − u_i)`
 //! and the load equation, max-norm, relative to the force scale
-//! ([`SolverOptions::tolerance`]); a solve that does not get there says so
-//! with its iterations and residual ([`SolveError::NotConverged`]).
+//! ([`SolverOptions::tolerance`]). When Newton and the continuation stall,
+//! recoveries follow (a cold restart, dense steps, a Levenberg–Marquardt
+//! shift, a continuation through stagnated steps); a state within the
+//! tolerance up to each residual's rounding floor is
+//! [`Convergence::Converged`], one within
+//! [`SolverOptions::acceptable_tolerance`] with the load balanced is
+//! returned as [`Convergence::Stagnated`], [`Solution::recovery`] says which
+//! attempt produced it (docs/theory.md §3); a solve that does not get there
+//! says so with its iterations and residual ([`SolveError::NotConverged`]).
 //!
 //! Two ways to solve the active system ([`LinearSolver`]):
 //!
@@ -127,7 +134,7 @@ pub use asperity_set::AsperitySet;
 pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::Boussinesq;
 pub use problem::Problem;
-pub use solution::{Solution, overlapping_contacts, pressure_map};
+pub use solution::{Convergence, Recovery, Solution, overlapping_contacts, pressure_map};
 pub use solver::{Control, LinearSolver, SolverOptions, solve, solve_from};
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_core::Par;
@@ -147,7 +154,8 @@ pub enum SolveError {
         /// The second summit's index.
         second: usize,
     },
-    /// Newton did not reach the tolerance.
+    /// Newton did not reach the tolerance, nor, after every recovery, the
+    /// acceptable tolerance.
     #[error(
         "Newton-Raphson did not converge: {iterations} iterations over {load_steps} load steps, \
          relative residual {residual:.3e}"
@@ -157,7 +165,8 @@ pub enum SolveError {
         iterations: usize,
         /// Load steps tried.
         load_steps: usize,
-        /// Best max-norm residual reached, relative to the force scale.
+        /// Best max-norm residual reached at the full load (or approach),
+        /// relative to the force scale.
         residual: f64,
     },
 }

@@ -6,12 +6,46 @@ use tyreroad_core::{Field, Grid, Par};
 use crate::krylov::Interaction;
 use crate::{Problem, SolveError};
 
-/// A converged multipoint contact.
+/// How a returned solution met its convergence test (docs/theory.md §3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Convergence {
+    /// Every force residual and the load equation within
+    /// [`SolverOptions::tolerance`](crate::SolverOptions) of the force scale
+    /// (a residual may exceed it by its own rounding floor, see there).
+    Converged,
+    /// The iteration stagnated (no step length decreased the merit, after
+    /// every recovery) with the load equation within the tolerance and the
+    /// largest relative force residual `residual` between the tolerance and
+    /// [`SolverOptions::acceptable_tolerance`](crate::SolverOptions).
+    Stagnated {
+        /// Largest force residual relative to the force scale.
+        residual: f64,
+    },
+}
+
+/// Which attempt produced a solution, in the order they are tried.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Recovery {
+    /// The first Newton run from the given (warm or cold) start.
+    None,
+    /// Load (or approach) continuation after the first run failed.
+    Continuation,
+    /// A Newton run from the cold (uncoupled or coarse) start, after a warm
+    /// start and the continuation failed.
+    ColdRestart,
+    /// Newton with dense factorizations, after Krylov steps stalled.
+    DenseFallback,
+    /// Newton with a Levenberg–Marquardt shift of the step's matrix, after
+    /// every plain run stalled.
+    Regularized,
+}
+
+/// A solved multipoint contact.
 ///
 /// Invariants: `forces[i] ≥ 0`; an asperity out of contact
 /// (`depths[i] ≤ 0`) carries exactly zero; every residual
-/// `|P_i − P_i^law(δ_i)|` is below the requested tolerance (`residual`
-/// reports the largest, relative to the force scale).
+/// `|P_i − P_i^law(δ_i)|` meets `convergence` (`residual` reports the
+/// largest, relative to the force scale).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution {
     /// Force `P_i` on each asperity (N).
@@ -27,6 +61,10 @@ pub struct Solution {
     pub load_steps: usize,
     /// Final max-norm residual relative to the force scale.
     pub residual: f64,
+    /// Whether the tolerance was met or the solve stagnated just above it.
+    pub convergence: Convergence,
+    /// The attempt that produced this solution.
+    pub recovery: Recovery,
 }
 
 impl Solution {
@@ -56,6 +94,23 @@ impl Solution {
             iterations,
             load_steps,
             residual,
+            convergence: Convergence::Converged,
+            recovery: Recovery::None,
+        }
+    }
+
+    /// A state to warm-start [`solve_from`](crate::solve_from) with: forces,
+    /// local interpenetrations and approach (the bookkeeping fields empty).
+    pub fn warm_start(forces: Vec<f64>, depths: Vec<f64>, approach: f64) -> Self {
+        Self {
+            forces,
+            depths,
+            approach,
+            iterations: 0,
+            load_steps: 0,
+            residual: f64::NAN,
+            convergence: Convergence::Converged,
+            recovery: Recovery::None,
         }
     }
 

@@ -157,14 +157,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             .zip(&u)
             .map(|(h, u)| c.approach - h - u)
             .collect();
-        Solution {
-            depths,
-            forces,
-            approach: c.approach,
-            iterations: 0,
-            load_steps: 0,
-            residual: 0.0,
-        }
+        Solution::warm_start(forces, depths, c.approach)
     });
     let options = SolverOptions {
         tolerance: config.tolerance,

@@ -31,6 +31,13 @@ pub(super) struct Workspace {
     pub(super) krylov: KrylovStats,
     /// Whether the last Newton direction came from a Krylov solve.
     pub(super) last_was_krylov: bool,
+    /// Whether any Newton direction of this solve came from a Krylov solve.
+    pub(super) used_krylov: bool,
+    /// Levenberg–Marquardt shift of the step's matrix, relative to the mean
+    /// active compliance `1/k`; `None` for plain Newton.
+    pub(super) damping: Option<f64>,
+    /// The law stiffnesses while a damped step is solved with shifted ones.
+    pub(super) law_stiffness: Vec<f64>,
     /// `F_i = δ_i + u_i − δ0 + H_i`: how far the iterate's δ is from the one
     /// its forces imply.
     pub(super) mismatch: Vec<f64>,
@@ -60,6 +67,9 @@ impl Workspace {
             forcing: 0.1,
             krylov: KrylovStats::default(),
             last_was_krylov: false,
+            used_krylov: false,
+            damping: None,
+            law_stiffness: vec![0.0; n],
             mismatch: vec![0.0; n],
             weight: vec![1.0; n],
             depth_step: vec![0.0; n],

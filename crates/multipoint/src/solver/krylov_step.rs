@@ -24,6 +24,7 @@ pub(super) fn krylov_step(
     par: Par,
 ) -> Option<f64> {
     ws.last_was_krylov = true;
+    ws.used_krylov = true;
     let n = p.len();
     let na = ws.active.len();
     let mut coupling = vec![0.0; n];

@@ -61,6 +61,51 @@ impl Ops<'_> {
     }
 }
 
+/// Bounds of the Levenberg–Marquardt shift, relative to the mean active
+/// compliance: below the smallest it changes no digit of a well-conditioned
+/// step; above the largest the step is a vanishing multiple of `−F`.
+const MIN_DAMPING: f64 = 1e-8;
+const MAX_DAMPING: f64 = 1e4;
+
+/// Re-solves the step with `diag(1/k) + T_AA + μ I`, `μ = λ · mean(1/k_A)`:
+/// the shift bounds the step along the (nearly) singular directions that
+/// overlapping contacts give `diag(1/k) + T` (docs/theory.md §3), where the
+/// plain step alternates in sign and grows. The shifted system is solved by
+/// giving the active rows the stiffnesses `k/(1 + μk)` (compliance `1/k +
+/// μ`) with the same δ-mismatch right-hand side; the laws' own stiffnesses
+/// come back afterwards, so the step still moves δ by `ΔP/k`.
+fn damped_step(
+    op: &Ops<'_>,
+    control: Control,
+    p: &[f64],
+    lambda: f64,
+    ws: &mut Workspace,
+    options: &SolverOptions,
+) -> Result<Option<f64>, SolveError> {
+    let (mut compliance, mut count) = (0.0, 0usize);
+    for &k in &ws.stiffness {
+        if k > 0.0 {
+            compliance += 1.0 / k;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return Ok(Some(0.0));
+    }
+    let mu = lambda * compliance / count as f64;
+    ws.law_stiffness.copy_from_slice(&ws.stiffness);
+    for i in 0..p.len() {
+        let k = ws.law_stiffness[i];
+        if k > 0.0 {
+            ws.stiffness[i] = k / (1.0 + mu * k);
+            ws.residual[i] = ws.stiffness[i] * ws.mismatch[i];
+        }
+    }
+    let step = newton_step(op, control, p, ws, options);
+    std::mem::swap(&mut ws.stiffness, &mut ws.law_stiffness);
+    step
+}
+
 pub(super) struct NewtonRun {
     pub(super) converged: bool,
     pub(super) iterations: usize,
@@ -232,6 +277,12 @@ pub(super) fn newton<L: ContactLaw + Sync>(
             break;
         };
         d0_step = secant_corrections(problem, op, control, p, delta, d0_step, ws, options)?;
+        if let Some(lambda) = ws.damping {
+            match damped_step(op, control, p, lambda, ws, options)? {
+                Some(step) => d0_step = step,
+                None => break,
+            }
+        }
         let t_step = t_iter.elapsed().as_secs_f64();
         // δ changes by ΔP/k on contacts and, elsewhere, by what the new
         // forces and approach imply: Δδ_i = −F_i − (T ΔP)_i + Δδ0.
@@ -288,6 +339,12 @@ pub(super) fn newton<L: ContactLaw + Sync>(
                 tight = true;
                 continue;
             }
+            if let Some(lambda) = ws.damping
+                && lambda < MAX_DAMPING
+            {
+                ws.damping = Some(lambda * 10.0);
+                continue;
+            }
             return Ok(NewtonRun {
                 converged: false,
                 iterations: iteration + 1,
@@ -308,6 +365,9 @@ pub(super) fn newton<L: ContactLaw + Sync>(
         }
         if alpha == 1.0 {
             tight = false;
+            if let Some(lambda) = ws.damping {
+                ws.damping = Some((lambda * 0.1).max(MIN_DAMPING));
+            }
         }
     }
     Ok(NewtonRun {

@@ -38,8 +38,19 @@ pub enum LinearSolver {
 pub struct SolverOptions {
     /// Convergence when every residual `|P_i − P_i^law(δ_i)|` and the load
     /// residual are below `tolerance × force scale` (the imposed load, or the
-    /// uncoupled total force under approach control).
+    /// uncoupled total force under approach control). A solve that stalls
+    /// above it is still [`Convergence::Converged`](crate::Convergence) when
+    /// the load equation meets it and every force residual is within it plus
+    /// its own rounding floor `k_i · 8ε · (|δ0| + |H_i| + |u_i|)` (what double
+    /// precision can resolve of `P^law(δ0 − H_i − u_i)`; docs/theory.md §3).
     pub tolerance: f64,
+    /// The largest relative force residual a solve that stagnates (its line
+    /// search fails after every recovery) may return with, marked
+    /// [`Convergence::Stagnated`](crate::Convergence); above it the solve
+    /// fails with [`SolveError::NotConverged`]. The load equation must still
+    /// meet [`Self::tolerance`]. Default 1e-8; a value below `tolerance`
+    /// counts as `tolerance` (set it so to accept strict convergence only).
+    pub acceptable_tolerance: f64,
     /// Newton iterations allowed per load step.
     pub max_iterations: usize,
     /// Load (or approach) steps allowed when a direct solve fails.
@@ -125,6 +136,7 @@ impl Default for SolverOptions {
     fn default() -> Self {
         Self {
             tolerance: 1e-11,
+            acceptable_tolerance: 1e-8,
             max_iterations: 60,
             max_load_steps: 200,
             par: Par::Seq,
@@ -177,6 +189,12 @@ pub(super) fn check_options(options: &SolverOptions) -> Result<(), SolveError> {
         return Err(SolveError::InvalidInput(format!(
             "solver options need tolerance > 0 and max_iterations ≥ 1, got {} and {}",
             options.tolerance, options.max_iterations
+        )));
+    }
+    if !(options.acceptable_tolerance.is_finite() && options.acceptable_tolerance > 0.0) {
+        return Err(SolveError::InvalidInput(format!(
+            "solver options need a finite acceptable_tolerance > 0, got {}",
+            options.acceptable_tolerance
         )));
     }
     Ok(())

@@ -60,14 +60,7 @@ pub(crate) fn coarse_start<L: ContactLaw + Sync>(
                     .map(|c| c.members().iter().map(|&i| laws[i].force(depths[i])).sum())
                     .collect();
                 let (delta, d0) = jacobi_start(&coarse, control, &forces, options);
-                let warm = Solution {
-                    forces,
-                    depths: delta,
-                    approach: d0,
-                    iterations: 0,
-                    load_steps: 0,
-                    residual: f64::NAN,
-                };
+                let warm = Solution::warm_start(forces, delta, d0);
                 solve_from(&coarse, control, &opts, Some(&warm))
             }
         };
