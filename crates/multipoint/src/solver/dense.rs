@@ -7,77 +7,9 @@ use faer::linalg::lu::partial_pivoting as lu;
 use faer::{Mat, MatMut, Par};
 
 use super::krylov_step::krylov_step;
-use super::newton::Ops;
 use super::options::{Control, LinearSolver, SolverOptions};
-use crate::krylov::KrylovStats;
+use super::state::{Ops, Workspace};
 use crate::{Boussinesq, SolveError};
-
-pub(super) struct Workspace {
-    pub(super) u: Vec<f64>,
-    pub(super) residual: Vec<f64>,
-    pub(super) stiffness: Vec<f64>,
-    pub(super) step: Vec<f64>,
-    pub(super) active: Vec<usize>,
-    pub(super) matrix: Mat<f64>,
-    pub(super) rhs: Mat<f64>,
-    pub(super) perm: Vec<usize>,
-    pub(super) perm_inv: Vec<usize>,
-    pub(super) stack: MemBuffer,
-    /// Krylov: `1/Σ`-solve of the previous step (warm start), per asperity.
-    pub(super) ones_solution: Vec<f64>,
-    /// Krylov: inexact Newton forcing term of the next step.
-    pub(super) forcing: f64,
-    /// Krylov: products spent, for diagnostics.
-    pub(super) krylov: KrylovStats,
-    /// Whether the last Newton direction came from a Krylov solve.
-    pub(super) last_was_krylov: bool,
-    /// Whether any Newton direction of this solve came from a Krylov solve.
-    pub(super) used_krylov: bool,
-    /// Levenberg–Marquardt shift of the step's matrix, relative to the mean
-    /// active compliance `1/k`; `None` for plain Newton.
-    pub(super) damping: Option<f64>,
-    /// The law stiffnesses while a damped step is solved with shifted ones.
-    pub(super) law_stiffness: Vec<f64>,
-    /// `F_i = δ_i + u_i − δ0 + H_i`: how far the iterate's δ is from the one
-    /// its forces imply.
-    pub(super) mismatch: Vec<f64>,
-    /// Weights of `F` in the line-search merit, fixed during one step.
-    pub(super) weight: Vec<f64>,
-    /// The Newton change of δ.
-    pub(super) depth_step: Vec<f64>,
-    /// `T · ΔP`, and the line search's trial δ.
-    pub(super) coupled: Vec<f64>,
-    pub(super) trial_depth: Vec<f64>,
-}
-
-impl Workspace {
-    pub(super) fn new(n: usize) -> Self {
-        Self {
-            u: vec![0.0; n],
-            residual: vec![0.0; n],
-            stiffness: vec![0.0; n],
-            step: vec![0.0; n],
-            active: Vec::with_capacity(n),
-            matrix: Mat::zeros(0, 0),
-            rhs: Mat::zeros(n, 2),
-            perm: vec![0; n],
-            perm_inv: vec![0; n],
-            stack: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
-            ones_solution: vec![0.0; n],
-            forcing: 0.1,
-            krylov: KrylovStats::default(),
-            last_was_krylov: false,
-            used_krylov: false,
-            damping: None,
-            law_stiffness: vec![0.0; n],
-            mismatch: vec![0.0; n],
-            weight: vec![1.0; n],
-            depth_step: vec![0.0; n],
-            coupled: vec![0.0; n],
-            trial_depth: vec![0.0; n],
-        }
-    }
-}
 
 /// Bytes of a dense active solve: the matrix and the factorization scratch.
 pub(super) fn dense_bytes(na: usize) -> usize {

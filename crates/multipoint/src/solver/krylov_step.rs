@@ -4,8 +4,8 @@
 
 use faer::Par;
 
-use super::dense::Workspace;
-use super::newton::Ops;
+use super::state::Ops;
+use super::state::Workspace;
 use crate::FastBoussinesq;
 use crate::krylov::{self, ActiveOperator, KrylovStats, Preconditioner};
 

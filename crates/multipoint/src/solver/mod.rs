@@ -15,6 +15,7 @@ mod newton;
 mod options;
 mod secant;
 mod start;
+mod state;
 
 use tyreroad_contact_law::ContactLaw;
 
@@ -24,12 +25,12 @@ use faer::Par;
 use crate::{
     Boussinesq, Convergence, FastBoussinesq, FastOptions, Problem, Recovery, Solution, SolveError,
 };
-use dense::Workspace;
-use newton::{Ops, evaluate, newton};
+use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
 pub use options::{Control, LinearSolver, SolverOptions};
 use options::{check_control, check_options, krylov_order, residual_options};
 use start::{coarse_start, uncoupled_start};
+use state::{Ops, Workspace};
 
 /// Solves the multipoint contact `problem` under `control` from a cold start.
 pub fn solve<L: ContactLaw + Sync>(

@@ -5,61 +5,12 @@
 use faer::Par;
 use tyreroad_contact_law::ContactLaw;
 
-use super::dense::{Workspace, newton_step};
+use super::dense::newton_step;
 use super::options::{Control, SolverOptions};
 use super::secant::secant_corrections;
+use super::state::{Ops, Workspace};
 use crate::krylov::Interaction;
-use crate::{Boussinesq, FastBoussinesq, Problem, SolveError};
-
-/// The interaction products of one solve.
-pub(super) struct Ops<'a> {
-    pub(super) exact: Boussinesq<'a>,
-    /// Residuals (and the final depths).
-    pub(super) residual: Interaction<'a>,
-    /// Krylov products.
-    pub(super) product: Interaction<'a>,
-    /// The cluster tree of the Krylov preconditioner.
-    pub(super) tree: Option<&'a FastBoussinesq>,
-    pub(super) positions: &'a [[f64; 2]],
-    /// Print per-iteration timings to stderr (`TYREROAD_PROFILE` set).
-    pub(super) profile: bool,
-}
-
-impl Ops<'_> {
-    pub(super) fn exact_positions(&self) -> &[[f64; 2]] {
-        self.positions
-    }
-
-    /// Whether the Krylov operator is a cheaper (lower-order) fast operator
-    /// than the residual's.
-    pub(super) fn product_is_cheaper(&self) -> bool {
-        match (self.product, self.residual) {
-            (Interaction::Fast(lo), Interaction::Fast(hi)) => lo.order() < hi.order(),
-            _ => false,
-        }
-    }
-
-    /// The residual level above which the cheap operator may evaluate
-    /// residuals: 100 × the largest force residual its error causes,
-    /// `max_i k_i |(T̃p)_i − (Tp)_i|` at the state `evaluate` left in `ws`
-    /// (forces `p`, stiffnesses, cheap products in `ws.u`), with one
-    /// accurate product. Below that level the cheap residual would mislead
-    /// the iteration, so the accurate one takes over.
-    pub(super) fn coarse_until(&self, p: &[f64], ws: &mut Workspace, par: Par) -> f64 {
-        self.residual.apply(p, &mut ws.coupled, par);
-        let worst = ws
-            .stiffness
-            .iter()
-            .zip(ws.u.iter().zip(&ws.coupled))
-            .map(|(k, (lo, hi))| k * (lo - hi).abs())
-            .fold(0.0_f64, f64::max);
-        if worst.is_finite() {
-            100.0 * worst
-        } else {
-            f64::INFINITY
-        }
-    }
-}
+use crate::{Problem, SolveError};
 
 /// Bounds of the Levenberg–Marquardt shift, relative to the mean active
 /// compliance: below the smallest it changes no digit of a well-conditioned

@@ -2,9 +2,9 @@
 
 use tyreroad_contact_law::ContactLaw;
 
-use super::dense::{Workspace, newton_step};
-use super::newton::Ops;
+use super::dense::newton_step;
 use super::options::{Control, SolverOptions};
+use super::state::{Ops, Workspace};
 use crate::{Problem, SolveError};
 
 /// Re-solves of a Newton step with secant stiffnesses, at most.
