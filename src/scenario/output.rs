@@ -373,6 +373,45 @@ pub fn road_npz(positions: &[[f64; 2]], heights: &[f64]) -> Result<Vec<u8>, Scen
         .finish()
 }
 
+/// The per-step outputs of a rolling run as `.npz`, beside [`road_npz`]:
+/// per step `time` (s) and `position` (the footprint centre's x, m), both
+/// shape `(n_steps,)`; `lateral` (the path's y, m, shape `()`); and the
+/// contact forces as COO triplets of equal length `(nnz,)` — `step`
+/// (`int64`, index into `time`), `asperity` (`int64`, id into `road.npz`'s
+/// arrays) and `force` (`float64`, N, only contacts: `P > 0`). Summed per
+/// step the forces give `time_signals.csv`'s `total_force_n`.
+///
+/// # Errors
+/// As [`NpzBuilder`].
+pub fn steps_npz(
+    result: &tyreroad_rolling::RollingResult,
+    lateral: f64,
+) -> Result<Vec<u8>, ScenarioError> {
+    let time = result.times();
+    let position: Vec<f64> = result.steps.iter().map(|s| s.position).collect();
+    let nnz: usize = result.steps.iter().map(|s| s.contact_ids.len()).sum();
+    let (mut step, mut asperity, mut force) = (
+        Vec::with_capacity(nnz),
+        Vec::with_capacity(nnz),
+        Vec::with_capacity(nnz),
+    );
+    for (k, id, p) in result.contact_triplets() {
+        // numpy indexes with int64; a run has far fewer than 2^63 steps or
+        // asperities.
+        step.push(k as i64);
+        asperity.push(id as i64);
+        force.push(p);
+    }
+    NpzBuilder::new()
+        .array("time", &[time.len()], &time)?
+        .array("position", &[position.len()], &position)?
+        .array("lateral", &[], &[lateral])?
+        .array("step", &[nnz], &step)?
+        .array("asperity", &[nnz], &asperity)?
+        .array("force", &[nnz], &force)?
+        .finish()
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {
@@ -433,5 +472,59 @@ mod tests {
             .unwrap();
         let mut zip = zip::ZipArchive::new(Cursor::new(npz)).unwrap();
         assert!(zip.by_name("x.npy").is_ok());
+    }
+
+    #[test]
+    fn steps_npz_holds_the_contacts_as_coo_triplets() {
+        use std::io::Read;
+        let step = |index: usize, ids: Vec<usize>, forces: Vec<f64>| tyreroad_rolling::StepRecord {
+            index,
+            position: 0.01 * index as f64,
+            time: 0.001 * index as f64,
+            total_force: forces.iter().sum(),
+            approach: 1e-4,
+            contact_area: 0.0,
+            contacts: ids.len(),
+            selected: 5,
+            iterations: 3,
+            clearance: 1e-3,
+            overlapping: 0,
+            sensor_forces: Vec::new(),
+            contact_ids: ids,
+            contact_forces: forces,
+        };
+        let result = tyreroad_rolling::RollingResult {
+            steps: vec![
+                step(0, vec![4, 2], vec![1.5, 2.5]),
+                step(1, vec![], vec![]),
+                step(2, vec![7], vec![3.0]),
+            ],
+            sample_rate: 1000.0,
+            resumed: 0,
+            input_hash: 0,
+        };
+        let npz = steps_npz(&result, 0.002).unwrap();
+        let mut zip = zip::ZipArchive::new(Cursor::new(npz)).unwrap();
+        let mut member = |name: &str| {
+            let mut bytes = Vec::new();
+            zip.by_name(&format!("{name}.npy"))
+                .unwrap()
+                .read_to_end(&mut bytes)
+                .unwrap();
+            npyz::NpyFile::new(Cursor::new(bytes)).unwrap()
+        };
+        let lateral = member("lateral");
+        assert!(lateral.shape().is_empty());
+        assert_eq!(lateral.into_vec::<f64>().unwrap(), vec![0.002]);
+        assert_eq!(
+            member("time").into_vec::<f64>().unwrap(),
+            vec![0.0, 0.001, 0.002]
+        );
+        assert_eq!(member("step").into_vec::<i64>().unwrap(), vec![0, 0, 2]);
+        assert_eq!(member("asperity").into_vec::<i64>().unwrap(), vec![4, 2, 7]);
+        assert_eq!(
+            member("force").into_vec::<f64>().unwrap(),
+            vec![1.5, 2.5, 3.0]
+        );
     }
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
-use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz};
+use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz, steps_npz};
 use tyreroad::scenario::{RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult};
 use tyreroad_rolling as rolling;
 
@@ -18,7 +18,9 @@ use crate::charts::{Series, line_chart};
 /// `time_signals.csv`, `third_octave.csv` (`band_centre_hz,level_db`),
 /// `third_octave_bands.csv` (exact centres and sensor levels), `sensors.csv`
 /// (when sensors are defined), `road.npz` (the road's asperities: `ids`,
-/// `positions` `(n, 2)`, `heights`) and SVG/PNG charts.
+/// `positions` `(n, 2)`, `heights`), `steps.npz` (per step `time` and
+/// `position`, the path's `lateral`, and the contact forces as COO triplets
+/// `step`, `asperity`, `force`) and SVG/PNG charts.
 pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<()> {
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
@@ -164,6 +166,7 @@ fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
         "road.npz",
         &road_npz(&run.road_positions, &run.road_heights)?,
     )?;
+    set.write("steps.npz", &steps_npz(result, config.lateral)?)?;
     let ts: Vec<TimeSignalRow> = result
         .steps
         .iter()
@@ -377,6 +380,7 @@ mod tests {
         assert!(bands.starts_with("band_centre_hz,exact_centre_hz,centre_db\n"));
         for f in [
             "road.npz",
+            "steps.npz",
             "sensors.csv",
             "time_signals.svg",
             "contact_area.svg",

@@ -23,8 +23,9 @@ use crate::{
 
 // Version 2: sensors integrate each contact's pressure instead of counting
 // summits, so version-1 records are not reused. Version 3: records carry the
-// count of overlapping contacts.
-const MAGIC: &str = "tyreroad-rolling-checkpoint 3";
+// count of overlapping contacts. Version 4: records end with the contact
+// forces by asperity id (`id:bits`), which older files lack.
+const MAGIC: &str = "tyreroad-rolling-checkpoint 4";
 
 /// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
 /// `DefaultHasher`).
@@ -166,6 +167,9 @@ pub(crate) fn save(
         {
             let _ = write!(text, " {:016x}", v.to_bits());
         }
+        for (&i, &p) in r.contact_ids.iter().zip(&r.contact_forces) {
+            let _ = write!(text, " {i}:{:016x}", p.to_bits());
+        }
         text.push('\n');
     }
     // The warm-start state after the last step, so that a resumed chunk
@@ -256,10 +260,16 @@ fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), 
             return Err(bad());
         }
         let floats: Vec<f64> = it
+            .by_ref()
+            .take(6 + ns)
             .map(|t| u64::from_str_radix(t, 16).map(f64::from_bits))
             .collect::<Result<_, _>>()
             .map_err(|_| bad())?;
         if floats.len() != 6 + ns {
+            return Err(bad());
+        }
+        let (contact_ids, contact_forces) = parse_forces(it).ok_or_else(bad)?;
+        if contact_ids.len() != contacts {
             return Err(bad());
         }
         out.records.push(StepRecord {
@@ -275,6 +285,8 @@ fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), 
             clearance: floats[5],
             overlapping,
             sensor_forces: floats[6..].to_vec(),
+            contact_ids,
+            contact_forces,
         });
     }
     Ok(())
@@ -284,12 +296,7 @@ fn parse_state(rest: &str) -> Option<(usize, Carry)> {
     let mut it = rest.split_ascii_whitespace();
     let index = it.next()?.parse().ok()?;
     let approach = f64::from_bits(u64::from_str_radix(it.next()?, 16).ok()?);
-    let (mut ids, mut forces) = (Vec::new(), Vec::new());
-    for t in it {
-        let (i, p) = t.split_once(':')?;
-        ids.push(i.parse().ok()?);
-        forces.push(f64::from_bits(u64::from_str_radix(p, 16).ok()?));
-    }
+    let (ids, forces) = parse_forces(it)?;
     Some((
         index,
         Carry {
@@ -298,4 +305,15 @@ fn parse_state(rest: &str) -> Option<(usize, Carry)> {
             approach,
         },
     ))
+}
+
+/// `id:bits` tokens: asperity ids and their forces.
+fn parse_forces<'t>(tokens: impl Iterator<Item = &'t str>) -> Option<(Vec<usize>, Vec<f64>)> {
+    let (mut ids, mut forces) = (Vec::new(), Vec::new());
+    for t in tokens {
+        let (i, p) = t.split_once(':')?;
+        ids.push(i.parse().ok()?);
+        forces.push(f64::from_bits(u64::from_str_radix(p, 16).ok()?));
+    }
+    Some((ids, forces))
 }

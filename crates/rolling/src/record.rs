@@ -33,6 +33,14 @@ pub struct StepRecord {
     /// Force on each sensor (N), in the order of
     /// [`RollingConfig::sensors`](crate::RollingConfig::sensors).
     pub sensor_forces: Vec<f64>,
+    /// Road ids (indices into [`Road::positions`](crate::Road::positions))
+    /// of the asperities in contact, in the order they were selected (by x).
+    /// Only those with `P > 0`: a footprint selects a few hundred
+    /// asperities of which a fraction touch, and a run keeps every step.
+    pub contact_ids: Vec<usize>,
+    /// Force on each asperity of [`StepRecord::contact_ids`] (N), all `> 0`;
+    /// summed in order they give [`StepRecord::total_force`] exactly.
+    pub contact_forces: Vec<f64>,
 }
 
 /// The result of a rolling run: one record per step, in path order.
@@ -71,6 +79,17 @@ impl RollingResult {
             .iter()
             .map(|s| s.sensor_forces.get(k).copied().unwrap_or(0.0))
             .collect()
+    }
+    /// The contact forces of the whole run as COO triplets `(step, id,
+    /// force)`: step `k` is the position in [`RollingResult::steps`], `id`
+    /// the road's asperity id, `force` in N (only `P > 0`).
+    pub fn contact_triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.steps.iter().enumerate().flat_map(|(k, s)| {
+            s.contact_ids
+                .iter()
+                .zip(&s.contact_forces)
+                .map(move |(&id, &p)| (k, id, p))
+        })
     }
     /// The smallest truncation clearance over the run (m); see
     /// [`StepRecord::clearance`].

@@ -122,6 +122,8 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         clearance: boundary - approach,
         overlapping: 0,
         sensor_forces: vec![0.0; config.sensors.len()],
+        contact_ids: Vec::new(),
+        contact_forces: Vec::new(),
     };
     if scratch.ids.is_empty() {
         *carry = None;
@@ -175,8 +177,13 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     let pos = road.positions();
     let mut sensor_forces = vec![0.0; config.sensors.len()];
     let mut area = 0.0;
+    let in_contact = solution.contact_count();
+    let mut contact_ids = Vec::with_capacity(in_contact);
+    let mut contact_forces = Vec::with_capacity(in_contact);
     for (a, (&i, &p)) in ids.iter().zip(&solution.forces).enumerate() {
         if p > 0.0 {
+            contact_ids.push(i);
+            contact_forces.push(p);
             area += contacts[a].area();
             for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
                 *f += s.share(pos[i], &contacts[a]);
@@ -190,12 +197,14 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         total_force: solution.total_force(),
         approach: solution.approach,
         contact_area: area,
-        contacts: solution.contact_count(),
+        contacts: in_contact,
         selected: ids.len(),
         iterations: solution.iterations,
         clearance: boundary - solution.approach,
         overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
         sensor_forces,
+        contact_ids,
+        contact_forces,
     };
     *carry = Some(Carry {
         ids,

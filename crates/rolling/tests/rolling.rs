@@ -58,6 +58,14 @@ fn assert_same(a: &RollingResult, b: &RollingResult, rel: f64) {
         assert!(close(x.total_force, y.total_force, rel), "{x:?}\n{y:?}");
         assert!(close(x.approach, y.approach, rel), "{x:?}\n{y:?}");
         assert!(close(x.contact_area, y.contact_area, rel), "{x:?}\n{y:?}");
+        // The same asperities in contact, each with the same force.
+        assert_eq!(x.contact_ids, y.contact_ids);
+        for (p, q) in x.contact_forces.iter().zip(&y.contact_forces) {
+            assert!(
+                (p - q).abs() <= rel * x.total_force.abs().max(1.0),
+                "{x:?}\n{y:?}"
+            );
+        }
         for (p, q) in x.sensor_forces.iter().zip(&y.sensor_forces) {
             // Sensor forces are sums of a few forces: compare to the total.
             assert!(
@@ -369,6 +377,22 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
     assert_eq!(resumed.resumed, done);
     assert_eq!(computed.load(Ordering::SeqCst), total - done);
     assert_eq!(resumed.steps, uninterrupted.steps);
+    // The per-asperity forces (in `steps` above) spelt out: the same ids and
+    // the same bits, restored from the checkpoint as well as recomputed.
+    let bits = |r: &RollingResult| -> Vec<(usize, usize, u64)> {
+        r.contact_triplets()
+            .map(|(k, id, p)| (k, id, p.to_bits()))
+            .collect()
+    };
+    assert_eq!(bits(&resumed), bits(&uninterrupted));
+    for s in &uninterrupted.steps {
+        assert_eq!(s.contact_ids.len(), s.contacts);
+        assert_eq!(s.contact_forces.len(), s.contacts);
+        assert!(s.contact_forces.iter().all(|&p| p > 0.0));
+        // In selection order they sum to the total force bit for bit.
+        assert_eq!(s.contact_forces.iter().sum::<f64>(), s.total_force);
+    }
+    assert!(uninterrupted.steps.iter().all(|s| s.contacts > 0));
     // Resume with another chunking: chunks that start after finished steps
     // may cold-start, equal to the solver tolerance.
     let other = roll(
@@ -399,6 +423,7 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
     )?;
     assert_eq!(again.resumed, total);
     assert_eq!(again.steps, resumed.steps);
+    assert_eq!(bits(&again), bits(&uninterrupted));
     // Other inputs, other hash: nothing is reused.
     let mut changed = config.clone();
     changed.control = RollingControl::Load(121.0);
