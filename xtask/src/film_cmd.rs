@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
+use tyreroad::film;
 use tyreroad::scenario::output::{csv_bytes, fmt};
-use tyreroad_film as film;
 
 /// The columns of `<scan>-prints.csv`.
 const PRINT_CSV_HEADER: &str = "indenter,x_m,y_m,pixels,area_m2,mean_grey,mean_grey_density,\

@@ -7,9 +7,9 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
+use tyreroad::rolling;
 use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz, steps_npz};
 use tyreroad::scenario::{RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult};
-use tyreroad_rolling as rolling;
 
 use crate::charts::{Series, line_chart};
 
