@@ -4,7 +4,7 @@
 //! - `texture synth self-affine|aggregate ... --out FILE.x3p`: a synthetic
 //!   surface, reproducible from its seed, written as X3P (whole or not at
 //!   all: a temporary file, then a rename); also the hard road kinds
-//!   (`transverse-tining`, `pave`, ..., see [`crate::texture_roads_cmd`]).
+//!   (`transverse-tining`, `pave`, ..., see [`crate::texture_synth`]).
 
 use std::path::PathBuf;
 
