@@ -17,6 +17,7 @@ mod statics;
 mod texture_cmd;
 mod texture_static;
 mod texture_synth;
+mod torture;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -49,6 +50,9 @@ enum Command {
         #[arg(long)]
         strict: bool,
     },
+    /// Solve and roll every hard road kind; print the table of what
+    /// converged, what fell back and the time it took.
+    Torture,
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
     /// Road textures: `info FILE` (Sq, MPD, ...) and `synth ... --out FILE.x3p`.
@@ -63,6 +67,7 @@ fn main() -> Result<()> {
         Command::Validate(args) => validate::run(&args),
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
+        Command::Torture => torture::run(),
         Command::Run {
             scenario,
             out,

@@ -4,6 +4,7 @@
 use std::io::{Cursor, Read, Write};
 
 use proptest::prelude::*;
+use tyreroad_texture::io::npy::npy_from_bytes;
 use tyreroad_texture::io::sur::{
     read_sur, sur_from_bytes, sur_to_bytes, sur_to_bytes_compressed, write_sur_compressed,
 };
@@ -328,9 +329,34 @@ fn shipped_fixtures_read() {
     }
 }
 
+/// A valid 3 × 4 float64 `.npy` file (format 1.0), written by hand.
+fn npy_sample() -> Vec<u8> {
+    let mut header = "{'descr': '<f8', 'fortran_order': False, 'shape': (3, 4), }".to_string();
+    while (10 + header.len() + 1) % 16 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut b = b"\x93NUMPY\x01\x00".to_vec();
+    b.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    b.extend_from_slice(header.as_bytes());
+    for k in 0..12 {
+        b.extend_from_slice(&(f64::from(k) * 1e-4).to_le_bytes());
+    }
+    b
+}
+
+#[test]
+fn hand_written_npy_reads_back() {
+    let map = npy_from_bytes(&npy_sample(), 1e-4, 2e-4).unwrap();
+    assert_eq!((map.nx(), map.ny()), (4, 3));
+    assert!((map.dy() - 2e-4).abs() < 1e-18);
+    assert!((map.heights()[11] - 11e-4).abs() < 1e-15);
+}
+
 fn readers(bytes: &[u8]) {
     let _ = x3p_from_bytes(bytes);
     let _ = sur_from_bytes(bytes);
+    let _ = npy_from_bytes(bytes, 1e-4, 1e-4);
     let s = String::from_utf8_lossy(bytes);
     let _ = ascii_grid_from_str(&s);
     let _ = xyz_from_str(&s);
@@ -359,6 +385,7 @@ proptest! {
             sur_to_bytes_compressed(&map, 1 + t).unwrap(),
             ascii_grid_to_string(&map).into_bytes(),
             xyz_to_string(&map).into_bytes(),
+            npy_sample(),
         ] {
             for (pos, v) in &flips {
                 let k = ((pos * b.len() as f64) as usize).min(b.len() - 1);
