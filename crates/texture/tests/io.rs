@@ -332,7 +332,7 @@ fn shipped_fixtures_read() {
 /// A valid 3 × 4 float64 `.npy` file (format 1.0), written by hand.
 fn npy_sample() -> Vec<u8> {
     let mut header = "{'descr': '<f8', 'fortran_order': False, 'shape': (3, 4), }".to_string();
-    while (10 + header.len() + 1) % 16 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(16) {
         header.push(' ');
     }
     header.push('\n');
