@@ -117,7 +117,9 @@ mod tread;
 
 pub use checkpoint::input_hash;
 pub use config::{CheckpointOptions, RollingConfig, RollingControl};
-pub use record::{RollingResult, StepRecord};
+pub use record::{
+    Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
+};
 pub use road::Road;
 pub use run::{Progress, ProgressFn, RunOptions, roll};
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
@@ -163,4 +165,13 @@ pub enum RollingError {
     /// A checkpoint file could not be read or written.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
+    /// A checkpoint file is damaged (checksum), edited, or disagrees with
+    /// the inputs; it is not resumed. Delete it to recompute its steps.
+    #[error("checkpoint {file} refused: {reason}; delete it to recompute its steps")]
+    CheckpointRejected {
+        /// The file's path.
+        file: String,
+        /// What is wrong with it.
+        reason: String,
+    },
 }

@@ -377,6 +377,16 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
     assert_eq!(resumed.resumed, done);
     assert_eq!(computed.load(Ordering::SeqCst), total - done);
     assert_eq!(resumed.steps, uninterrupted.steps);
+    // Each step's status, recovery and residual (checkpoint format 5) come
+    // back as they were computed.
+    let outcome = |r: &RollingResult| -> Vec<_> {
+        r.steps
+            .iter()
+            .map(|s| (s.status, s.recovery, s.iterations, s.residual.to_bits()))
+            .collect()
+    };
+    assert_eq!(outcome(&resumed), outcome(&uninterrupted));
+    assert!(uninterrupted.all_converged());
     // The per-asperity forces (in `steps` above) spelt out: the same ids and
     // the same bits, restored from the checkpoint as well as recomputed.
     let bits = |r: &RollingResult| -> Vec<(usize, usize, u64)> {
