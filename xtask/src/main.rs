@@ -111,3 +111,13 @@ fn strict_rolling(strict: bool, unconverged: usize) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn strict_rolling_refuses_any_step_not_converged() {
+        assert!(super::strict_rolling(true, 0).is_ok());
+        assert!(super::strict_rolling(false, 3).is_ok());
+        assert!(super::strict_rolling(true, 1).is_err());
+    }
+}

@@ -406,7 +406,7 @@ mod tests {
         assert!(
             ts.lines()
                 .skip(1)
-                .all(|l| l.split(',').nth(11) == Some("converged"))
+                .all(|l| l.split(',').nth(10) == Some("converged"))
         );
         let to = std::fs::read_to_string(out.join("third_octave.csv"))?;
         assert!(to.starts_with("band_centre_hz,level_db\n"));

@@ -76,8 +76,14 @@
 //! - the selection is exact when [`StepRecord::clearance`] is positive: every
 //!   asperity left out has a gap larger than `δ0` (and `u_i ≥ 0`), so it would
 //!   carry exactly zero; nothing jumps when an asperity enters the window;
+//! - a step whose solve does not converge is recorded as
+//!   [`StepStatus::Failed`] (NaN values, no contacts) and the run goes on,
+//!   the next step cold-started; every step records its status, recovery,
+//!   iterations and residual;
 //! - a run killed part-way resumes from its checkpoint ([`CheckpointOptions`])
-//!   without recomputing finished steps, bit for bit;
+//!   without recomputing finished steps, bit for bit; a checkpoint that is
+//!   damaged, edited or disagrees with the inputs is refused
+//!   ([`RollingError::CheckpointRejected`]), never resumed;
 //! - user input never panics: errors are [`RollingError`]s.
 //!
 //! # Example

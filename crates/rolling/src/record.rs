@@ -200,3 +200,19 @@ pub fn interpolate_failed(signal: &[f64]) -> (Vec<f64>, usize) {
     }
     (out, replaced)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::interpolate_failed;
+
+    #[test]
+    fn failed_samples_are_bridged_linearly_and_counted() {
+        let nan = f64::NAN;
+        let (s, n) = interpolate_failed(&[nan, 1.0, nan, nan, 4.0, nan]);
+        assert_eq!((s, n), (vec![1.0, 1.0, 2.0, 3.0, 4.0, 4.0], 4));
+        let (s, n) = interpolate_failed(&[1.0, 2.0]);
+        assert_eq!((s, n), (vec![1.0, 2.0], 0));
+        let (s, n) = interpolate_failed(&[nan, nan]);
+        assert_eq!((s, n), (vec![0.0, 0.0], 2));
+    }
+}
