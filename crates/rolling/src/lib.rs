@@ -122,7 +122,7 @@ mod synth;
 mod tread;
 
 pub use checkpoint::input_hash;
-pub use config::{CheckpointOptions, RollingConfig, RollingControl};
+pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
 };

@@ -501,6 +501,16 @@ fn bad_input_is_an_error_not_a_panic() {
     let mut c = good.clone();
     c.end = 0.0;
     assert!(roll(&road, m, &c, &o).is_err());
+    // A step in the wrong unit: an error, not a step-count overflow or a
+    // runaway allocation.
+    for step in [1e-300, 1e-9] {
+        let mut c = good.clone();
+        c.step = step;
+        assert!(matches!(
+            roll(&road, m, &c, &o),
+            Err(RollingError::InvalidInput(e)) if e.contains("steps")
+        ));
+    }
     let mut c = good.clone();
     c.tread = Tread::Block {
         length: -1.0,
