@@ -379,7 +379,10 @@ pub fn road_npz(positions: &[[f64; 2]], heights: &[f64]) -> Result<Vec<u8>, Scen
 /// contact forces as COO triplets of equal length `(nnz,)` — `step`
 /// (`int64`, index into `time`), `asperity` (`int64`, id into `road.npz`'s
 /// arrays) and `force` (`float64`, N, only contacts: `P > 0`). Summed per
-/// step the forces give `time_signals.csv`'s `total_force_n`.
+/// step the forces give `time_signals.csv`'s `total_force_n`. And `status`
+/// (`int64`, shape `(n_steps,)`): 0 converged, 1 stagnated, 2 failed — a
+/// failed step has no triplets (its forces are unknown, not zero; its
+/// `total_force_n` is NaN).
 ///
 /// # Errors
 /// As [`NpzBuilder`].
@@ -389,6 +392,15 @@ pub fn steps_npz(
 ) -> Result<Vec<u8>, ScenarioError> {
     let time = result.times();
     let position: Vec<f64> = result.steps.iter().map(|s| s.position).collect();
+    let status: Vec<i64> = result
+        .steps
+        .iter()
+        .map(|s| match s.status {
+            tyreroad_rolling::StepStatus::Converged => 0,
+            tyreroad_rolling::StepStatus::Stagnated => 1,
+            tyreroad_rolling::StepStatus::Failed => 2,
+        })
+        .collect();
     let nnz: usize = result.steps.iter().map(|s| s.contact_ids.len()).sum();
     let (mut step, mut asperity, mut force) = (
         Vec::with_capacity(nnz),
@@ -409,6 +421,7 @@ pub fn steps_npz(
         .array("step", &[nnz], &step)?
         .array("asperity", &[nnz], &asperity)?
         .array("force", &[nnz], &force)?
+        .array("status", &[status.len()], &status)?
         .finish()
 }
 
@@ -487,6 +500,9 @@ mod tests {
             contacts: ids.len(),
             selected: 5,
             iterations: 3,
+            status: tyreroad_rolling::StepStatus::Converged,
+            recovery: tyreroad_rolling::Recovery::None,
+            residual: 0.0,
             clearance: 1e-3,
             overlapping: 0,
             sensor_forces: Vec::new(),
@@ -526,5 +542,6 @@ mod tests {
             member("force").into_vec::<f64>().unwrap(),
             vec![1.5, 2.5, 3.0]
         );
+        assert_eq!(member("status").into_vec::<i64>().unwrap(), vec![0, 0, 0]);
     }
 }

@@ -52,6 +52,10 @@ pub struct Spectra {
     /// L samples resolves Δf = fs/L, and a band narrower than two bins (width
     /// 0.23 f_c) holds leakage from its neighbours, not its own content.
     pub resolved_from: f64,
+    /// Samples of failed steps (NaN) replaced by linear interpolation
+    /// between their good neighbours before the spectra were computed
+    /// ([`rolling::interpolate_failed`]); 0 when every step has values.
+    pub interpolated_samples: usize,
 }
 
 impl Spectra {
@@ -82,6 +86,11 @@ pub struct RollingRun {
 }
 
 impl RollingRun {
+    /// Steps per status: `[converged, stagnated, failed]`.
+    pub fn status_counts(&self) -> [usize; 3] {
+        self.result.status_counts()
+    }
+
     /// Steps where some contact patches overlap, and the largest number of
     /// overlapping pairs at one step.
     pub fn overlapping_steps(&self) -> (usize, usize) {
@@ -210,8 +219,12 @@ fn spectra(
         (result.total_force(), reference)
     };
     let fs = result.sample_rate;
+    // A Welch periodogram needs every sample: failed steps are bridged by
+    // linear interpolation, and their count reported with the spectra.
+    let (primary, interpolated_samples) = rolling::interpolate_failed(&primary);
     let spectrum = |signal: &[f64], r: f64| {
-        rolling::third_octave(signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
+        let (signal, _) = rolling::interpolate_failed(signal);
+        rolling::third_octave(&signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
             context: "one-third-octave spectrum".into(),
             source,
         })
@@ -232,5 +245,6 @@ fn spectra(
         sensors,
         segment,
         resolved_from,
+        interpolated_samples,
     })
 }

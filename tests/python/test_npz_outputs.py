@@ -77,11 +77,19 @@ def xtask_run(scenario: Path, out: Path) -> None:
 
 
 def read_csv(path: Path) -> dict[str, np.ndarray]:
-    """A CSV table's columns as float arrays, by header name."""
+    """A CSV table's columns as float arrays, by header name (text columns,
+    such as time_signals.csv's status and recovery, as string arrays)."""
     with path.open(newline="") as f:
         rows = list(csv.DictReader(f))
     assert rows, f"{path} has no rows"
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+    def column(k: str) -> np.ndarray:
+        try:
+            return np.array([float(r[k]) for r in rows])
+        except ValueError:
+            return np.array([r[k] for r in rows])
+
+    return {k: column(k) for k in rows[0]}
 
 
 @pytest.fixture(scope="module")
@@ -106,8 +114,13 @@ def test_rolling_steps_npz_matches_time_signals(rolling_out: Path) -> None:
     signals = read_csv(rolling_out / "time_signals.csv")
     road = np.load(rolling_out / "road.npz")
     steps = np.load(rolling_out / "steps.npz")
-    assert set(steps.files) == {"time", "position", "lateral", "step", "asperity", "force"}
+    assert set(steps.files) == {
+        "time", "position", "lateral", "step", "asperity", "force", "status"
+    }
     n_steps = steps["time"].size
+    # Every step converged: status 0 in steps.npz, "converged" in the CSV.
+    assert steps["status"].dtype == np.int64 and (steps["status"] == 0).all()
+    assert (signals["status"] == "converged").all()
     n_road = road["ids"].size
     assert n_steps == 40 == signals["time_s"].size
     assert steps["position"].shape == (n_steps,)

@@ -46,7 +46,8 @@ enum Command {
         #[arg(long, default_value = "validation")]
         out: PathBuf,
         /// Exit non-zero when any item fell back to a lower-fidelity
-        /// result (the outputs are written all the same).
+        /// result, or (rolling) any step is not `converged` (the outputs
+        /// are written all the same).
         #[arg(long)]
         strict: bool,
     },
@@ -81,7 +82,8 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
     let s = Scenario::from_path(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     if s.rolling.is_some() {
-        return rolling_cmd::run_rolling(&s, base, out);
+        let unconverged = rolling_cmd::run_rolling(&s, base, out)?;
+        return strict_rolling(strict, unconverged);
     }
     let result = s.run(&RunOptions::new(base))?;
     let mut set = OutputSet::new(out)?;
@@ -95,11 +97,32 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
             statics::print_runs(&r.runs);
             statics::write_static_outputs(&mut set, &s.name, &r.rows)?;
         }
-        ScenarioResult::Rolling(run) => return rolling_cmd::report_rolling(&run, out),
+        ScenarioResult::Rolling(run) => {
+            let unconverged = rolling_cmd::report_rolling(&run, out)?;
+            return strict_rolling(strict, unconverged);
+        }
     }
     statics::print_written(&set.commit()?);
     if strict && fallbacks > 0 {
         anyhow::bail!("--strict: {fallbacks} items fell back (outputs written)");
     }
     Ok(())
+}
+
+/// `--strict` on a rolling run: every step must have converged.
+fn strict_rolling(strict: bool, unconverged: usize) -> Result<()> {
+    if strict && unconverged > 0 {
+        anyhow::bail!("--strict: {unconverged} steps did not converge (outputs written)");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn strict_rolling_refuses_any_step_not_converged() {
+        assert!(super::strict_rolling(true, 0).is_ok());
+        assert!(super::strict_rolling(false, 3).is_ok());
+        assert!(super::strict_rolling(true, 1).is_err());
+    }
 }

@@ -20,8 +20,10 @@ use crate::charts::{Series, line_chart};
 /// (when sensors are defined), `road.npz` (the road's asperities: `ids`,
 /// `positions` `(n, 2)`, `heights`), `steps.npz` (per step `time` and
 /// `position`, the path's `lateral`, and the contact forces as COO triplets
-/// `step`, `asperity`, `force`) and SVG/PNG charts.
-pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<()> {
+/// `step`, `asperity`, `force`, and each step's `status`) and SVG/PNG
+/// charts. Returns the number of steps that did not converge cleanly
+/// (stagnated or failed), for `--strict`.
+pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<usize> {
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
@@ -49,7 +51,8 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<(
 }
 
 /// Prints what a rolling run needs to be read right, and writes its files.
-pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<()> {
+/// Returns the number of steps not `converged` (stagnated or failed).
+pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<usize> {
     match &run.road {
         RoadSummary::Texture(t) => println!(
             "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
@@ -86,7 +89,17 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<()> {
              {most} pairs, column n_overlapping): the point-force coupling does not hold there"
         );
     }
+    let [converged, stagnated, failed] = run.status_counts();
+    println!("steps: {converged} converged, {stagnated} stagnated, {failed} failed");
     let spectra = &run.spectra;
+    if failed > 0 {
+        println!(
+            "warning: {failed} of {total} steps failed (NaN in time_signals.csv, status \
+             column; no contacts in steps.npz): the spectra bridge {} failed samples by \
+             linear interpolation",
+            spectra.interpolated_samples
+        );
+    }
     if spectra.has_unresolved_bands() {
         let fs = result.sample_rate;
         println!(
@@ -106,7 +119,7 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<()> {
         result.sample_rate,
         out.display()
     );
-    Ok(())
+    Ok(stagnated + failed)
 }
 
 #[derive(Serialize)]
@@ -127,6 +140,12 @@ struct TimeSignalRow {
     #[serde(rename = "clearance_m", serialize_with = "fmt::sci6")]
     clearance: f64,
     n_overlapping: usize,
+    // Appended after the original columns, which keep their bytes; the
+    // iteration count is already the `iterations` column above.
+    status: &'static str,
+    recovery: &'static str,
+    #[serde(serialize_with = "fmt::sci6")]
+    residual: f64,
 }
 
 #[derive(Serialize)]
@@ -181,6 +200,9 @@ fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
             iterations: s.iterations,
             clearance: s.clearance,
             n_overlapping: s.overlapping,
+            status: s.status.name(),
+            recovery: rolling::recovery_name(s.recovery),
+            residual: s.residual,
         })
         .collect();
     set.write_csv("time_signals.csv", &ts)?;
@@ -240,6 +262,8 @@ fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
             .steps
             .iter()
             .zip(v)
+            // A failed step's NaN is a gap in the chart, not a point.
+            .filter(|(_, y)| y.is_finite())
             .map(|(s, &y)| (s.time * 1e3, y))
             .collect()
     };
@@ -368,12 +392,22 @@ mod tests {
         "#;
         let scenario = Scenario::parse(text, "small")?;
         let out = std::env::temp_dir().join(format!("tyreroad-rolling-cmd-{}", std::process::id()));
-        run_rolling(&scenario, Path::new("."), &out)?;
+        assert_eq!(run_rolling(&scenario, Path::new("."), &out)?, 0);
         let ts = std::fs::read_to_string(out.join("time_signals.csv"))?;
         assert!(
             ts.starts_with("time_s,position_m,total_force_n,approach_m,contact_area_m2,n_contacts")
         );
         assert_eq!(ts.lines().count(), 32);
+        let header = ts.lines().next().unwrap_or_default();
+        assert!(
+            header.ends_with(",clearance_m,n_overlapping,status,recovery,residual"),
+            "{header}"
+        );
+        assert!(
+            ts.lines()
+                .skip(1)
+                .all(|l| l.split(',').nth(10) == Some("converged"))
+        );
         let to = std::fs::read_to_string(out.join("third_octave.csv"))?;
         assert!(to.starts_with("band_centre_hz,level_db\n"));
         let bands = std::fs::read_to_string(out.join("third_octave_bands.csv"))?;

@@ -7,6 +7,14 @@
 //! their bits, so a resumed run is bit-for-bit the same. Loading merges the
 //! records of every file of the same hash, so a resume may use a different
 //! chunking or thread count.
+//!
+//! A file ends with `checksum <FNV-1a of every byte before that line>`, and
+//! every record is checked against the inputs when loaded (its position and
+//! time, its clearance against its approach, its forces finite, positive and
+//! summing to its total, its asperity ids on the road). A file that fails
+//! any check is refused with [`RollingError::CheckpointRejected`] naming the
+//! file and the reason, never resumed: the user deletes it (or the
+//! directory) to recompute those steps.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -18,14 +26,17 @@ use tyreroad_contact_law::{ContactLaw, Material};
 
 use crate::step::Carry;
 use crate::{
-    CheckpointOptions, Road, RollingConfig, RollingControl, RollingError, StepRecord, Tread,
+    CheckpointOptions, Recovery, Road, RollingConfig, RollingControl, RollingError, StepRecord,
+    StepStatus, Tread, recovery_name,
 };
 
 // Version 2: sensors integrate each contact's pressure instead of counting
 // summits, so version-1 records are not reused. Version 3: records carry the
 // count of overlapping contacts. Version 4: records end with the contact
-// forces by asperity id (`id:bits`), which older files lack.
-const MAGIC: &str = "tyreroad-rolling-checkpoint 4";
+// forces by asperity id (`id:bits`), which older files lack. Version 5:
+// records carry their status, recovery and residual; the file ends with a
+// checksum.
+const MAGIC: &str = "tyreroad-rolling-checkpoint 5";
 
 /// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
 /// `DefaultHasher`).
@@ -146,13 +157,15 @@ pub(crate) fn save(
     for r in records {
         let _ = write!(
             text,
-            "{} {} {} {} {} {}",
+            "{} {} {} {} {} {} {} {}",
             r.index,
             r.contacts,
             r.selected,
             r.iterations,
             r.overlapping,
-            r.sensor_forces.len()
+            r.sensor_forces.len(),
+            r.status.name(),
+            recovery_name(r.recovery),
         );
         for v in [
             r.position,
@@ -161,6 +174,7 @@ pub(crate) fn save(
             r.approach,
             r.contact_area,
             r.clearance,
+            r.residual,
         ]
         .iter()
         .chain(&r.sensor_forces)
@@ -183,6 +197,7 @@ pub(crate) fn save(
         }
         text.push('\n');
     }
+    let _ = writeln!(text, "checksum {:016x}", checksum(text.as_bytes()));
     let path = ck.dir.join(file_name(hash, chunk));
     let tmp = ck.dir.join(format!(
         ".{}.tmp-{}",
@@ -211,19 +226,34 @@ pub(crate) struct Loaded {
     pub states: HashMap<usize, Carry>,
 }
 
+/// FNV-1a of a file's bytes (its last line stores it).
+pub(crate) fn checksum(bytes: &[u8]) -> u64 {
+    let mut h = Fnv::new();
+    h.bytes(bytes);
+    h.0
+}
+
+/// What a loaded record must agree with: the run's inputs.
+pub(crate) struct Expect<'c> {
+    pub hash: u64,
+    pub config: &'c RollingConfig,
+    /// Asperities on the road (ids run below it).
+    pub road_len: usize,
+    /// `s` at the selection boundary (m): `clearance = boundary − approach`.
+    pub boundary: f64,
+}
+
 /// Every record and state of every checkpoint file of `hash` in the
-/// directory (none when the directory does not exist).
-pub(crate) fn load(
-    ck: &CheckpointOptions,
-    hash: u64,
-    sensors: usize,
-) -> Result<Loaded, RollingError> {
+/// directory (none when the directory does not exist). A file that is
+/// damaged or disagrees with the inputs is refused
+/// ([`RollingError::CheckpointRejected`]).
+pub(crate) fn load(ck: &CheckpointOptions, expect: &Expect<'_>) -> Result<Loaded, RollingError> {
     let entries = match fs::read_dir(&ck.dir) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Loaded::default()),
         Err(e) => return Err(io_error(&ck.dir, e)),
     };
-    let prefix = format!("{hash:016x}-");
+    let prefix = format!("{:016x}-", expect.hash);
     let mut out = Loaded::default();
     for entry in entries {
         let entry = entry.map_err(|e| io_error(&ck.dir, e))?;
@@ -232,66 +262,192 @@ pub(crate) fn load(
             continue;
         }
         let path = entry.path();
-        let text = fs::read_to_string(&path).map_err(|e| io_error(&path, e))?;
-        parse(&text, hash, sensors, &mut out).map_err(|e| io_error(&path, e))?;
+        let bytes = fs::read(&path).map_err(|e| io_error(&path, e))?;
+        parse(&bytes, expect, &mut out).map_err(|reason| RollingError::CheckpointRejected {
+            file: path.display().to_string(),
+            reason,
+        })?;
     }
     Ok(out)
 }
 
-fn parse(text: &str, hash: u64, sensors: usize, out: &mut Loaded) -> Result<(), String> {
-    let mut lines = text.lines();
-    let header = format!("{MAGIC} {hash:016x} {sensors}");
+/// Checks the file's checksum, then parses and checks each line.
+pub(crate) fn parse(bytes: &[u8], expect: &Expect<'_>, out: &mut Loaded) -> Result<(), String> {
+    let text = std::str::from_utf8(bytes).map_err(|_| "not UTF-8 text".to_string())?;
+    let body_end = text.trim_end_matches('\n').rfind('\n').map_or(0, |i| i + 1);
+    let (body, last) = text.split_at(body_end);
+    let stored = last
+        .trim_end()
+        .strip_prefix("checksum ")
+        .and_then(|h| u64::from_str_radix(h, 16).ok())
+        .ok_or("no checksum line at the end (truncated, or older than format 5)")?;
+    let actual = checksum(body.as_bytes());
+    if stored != actual {
+        return Err(format!(
+            "checksum mismatch (stored {stored:016x}, content {actual:016x}): the file was \
+             damaged or edited"
+        ));
+    }
+    let mut lines = body.lines();
+    let sensors = expect.config.sensors.len();
+    let header = format!("{MAGIC} {:016x} {sensors}", expect.hash);
     if lines.next() != Some(header.as_str()) {
         return Err("not a checkpoint of these inputs (header mismatch)".into());
     }
     for (n, line) in lines.enumerate() {
-        let bad = || format!("line {}: malformed record", n + 2);
+        let at = |why: &str| format!("line {}: {why}", n + 2);
         if let Some(rest) = line.strip_prefix("state ") {
-            let (index, carry) = parse_state(rest).ok_or_else(bad)?;
+            let (index, carry) = parse_state(rest).ok_or_else(|| at("malformed state"))?;
+            check_state(&carry, expect).map_err(|why| at(&why))?;
             out.states.insert(index, carry);
             continue;
         }
-        let mut it = line.split_ascii_whitespace();
-        let mut int =
-            || -> Result<usize, String> { it.next().and_then(|t| t.parse().ok()).ok_or_else(bad) };
-        let (index, contacts, selected, iterations, overlapping, ns) =
-            (int()?, int()?, int()?, int()?, int()?, int()?);
-        if ns != sensors {
-            return Err(bad());
-        }
-        let floats: Vec<f64> = it
-            .by_ref()
-            .take(6 + ns)
-            .map(|t| u64::from_str_radix(t, 16).map(f64::from_bits))
-            .collect::<Result<_, _>>()
-            .map_err(|_| bad())?;
-        if floats.len() != 6 + ns {
-            return Err(bad());
-        }
-        let (contact_ids, contact_forces) = parse_forces(it).ok_or_else(bad)?;
-        if contact_ids.len() != contacts {
-            return Err(bad());
-        }
-        out.records.push(StepRecord {
-            index,
-            position: floats[0],
-            time: floats[1],
-            total_force: floats[2],
-            approach: floats[3],
-            contact_area: floats[4],
-            contacts,
-            selected,
-            iterations,
-            clearance: floats[5],
-            overlapping,
-            sensor_forces: floats[6..].to_vec(),
-            contact_ids,
-            contact_forces,
-        });
+        let record = parse_record(line, sensors).ok_or_else(|| at("malformed record"))?;
+        check_record(&record, expect)
+            .map_err(|why| at(&format!("step {}: {why}", record.index)))?;
+        out.records.push(record);
     }
     Ok(())
 }
 
+fn parse_record(line: &str, sensors: usize) -> Option<StepRecord> {
+    let mut it = line.split_ascii_whitespace();
+    let mut int = || -> Option<usize> { it.next()?.parse().ok() };
+    let (index, contacts, selected, iterations, overlapping, ns) =
+        (int()?, int()?, int()?, int()?, int()?, int()?);
+    if ns != sensors {
+        return None;
+    }
+    let status = match it.next()? {
+        "converged" => StepStatus::Converged,
+        "stagnated" => StepStatus::Stagnated,
+        "failed" => StepStatus::Failed,
+        _ => return None,
+    };
+    let recovery_token = it.next()?;
+    let recovery = RECOVERIES
+        .into_iter()
+        .find(|&r| recovery_name(r) == recovery_token)?;
+    let floats: Vec<f64> = it
+        .by_ref()
+        .take(7 + ns)
+        .map(|t| u64::from_str_radix(t, 16).map(f64::from_bits))
+        .collect::<Result<_, _>>()
+        .ok()?;
+    if floats.len() != 7 + ns {
+        return None;
+    }
+    let (contact_ids, contact_forces) = parse_forces(it)?;
+    if contact_ids.len() != contacts {
+        return None;
+    }
+    Some(StepRecord {
+        index,
+        position: floats[0],
+        time: floats[1],
+        total_force: floats[2],
+        approach: floats[3],
+        contact_area: floats[4],
+        contacts,
+        selected,
+        iterations,
+        status,
+        recovery,
+        residual: floats[6],
+        clearance: floats[5],
+        overlapping,
+        sensor_forces: floats[7..].to_vec(),
+        contact_ids,
+        contact_forces,
+    })
+}
+
+const RECOVERIES: [Recovery; 5] = [
+    Recovery::None,
+    Recovery::Continuation,
+    Recovery::ColdRestart,
+    Recovery::DenseFallback,
+    Recovery::Regularized,
+];
+
+/// What a record must satisfy to be resumed: it is the step it says it is,
+/// and its values are those a solve produces (bit for bit where the runner
+/// computes them from one another).
+fn check_record(r: &StepRecord, e: &Expect<'_>) -> Result<(), String> {
+    let config = e.config;
+    if r.index >= config.steps() {
+        return Err(format!("index beyond the path's {} steps", config.steps()));
+    }
+    let x = config.position(r.index);
+    if r.position.to_bits() != x.to_bits() || r.time.to_bits() != (x / config.speed).to_bits() {
+        return Err(format!(
+            "position {} m / time {} s, the path puts it at {x} m",
+            r.position, r.time
+        ));
+    }
+    if let Some(&id) = r.contact_ids.iter().find(|&&id| id >= e.road_len) {
+        return Err(format!(
+            "asperity id {id} is not on the road ({} asperities)",
+            e.road_len
+        ));
+    }
+    if !(r.residual >= 0.0) {
+        return Err(format!("residual {} is not ≥ 0", r.residual));
+    }
+    if r.status == StepStatus::Failed {
+        let all_nan = [r.total_force, r.approach, r.contact_area, r.clearance]
+            .iter()
+            .chain(&r.sensor_forces)
+            .all(|v| v.is_nan());
+        if !all_nan || r.contacts != 0 {
+            return Err("a failed step with values".into());
+        }
+        return Ok(());
+    }
+    if let Some(p) = r
+        .contact_forces
+        .iter()
+        .find(|p| !(p.is_finite() && **p > 0.0))
+    {
+        return Err(format!("contact force {p} N is not finite and > 0"));
+    }
+    let sum: f64 = r.contact_forces.iter().sum();
+    if sum.to_bits() != r.total_force.to_bits() {
+        return Err(format!(
+            "total force {} N is not the sum {sum} N of its contact forces",
+            r.total_force
+        ));
+    }
+    let finite = [r.approach, r.contact_area, r.residual]
+        .iter()
+        .chain(&r.sensor_forces)
+        .all(|v| v.is_finite());
+    // A step with no load and nothing under the footprint has approach −∞.
+    let unloaded_and_empty = r.contacts == 0 && r.approach == f64::NEG_INFINITY;
+    if !(finite || unloaded_and_empty) {
+        return Err("a value is not finite".into());
+    }
+    if (e.boundary - r.approach).to_bits() != r.clearance.to_bits() {
+        return Err(format!(
+            "approach {} m disagrees with its clearance {} m",
+            r.approach, r.clearance
+        ));
+    }
+    Ok(())
+}
+
+fn check_state(c: &Carry, e: &Expect<'_>) -> Result<(), String> {
+    if let Some(&id) = c.ids.iter().find(|&&id| id >= e.road_len) {
+        return Err(format!(
+            "state names asperity id {id}, not on the road ({} asperities)",
+            e.road_len
+        ));
+    }
+    if !c.approach.is_finite() || c.forces.iter().any(|p| !(p.is_finite() && *p >= 0.0)) {
+        return Err("state holds a non-finite approach or force".into());
+    }
+    Ok(())
+}
 fn parse_state(rest: &str) -> Option<(usize, Carry)> {
     let mut it = rest.split_ascii_whitespace();
     let index = it.next()?.parse().ok()?;

@@ -6,6 +6,9 @@ use std::time::Duration;
 
 use crate::{RollingError, Sensor, Tread};
 
+/// Most steps a path may have ([`RollingConfig::validate`]).
+pub const MAX_STEPS: usize = 1_000_000;
+
 /// What is imposed on the tread at every step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum RollingControl {
@@ -95,6 +98,16 @@ impl RollingConfig {
         }
         if self.end < self.start {
             return bad("path end must not precede start", self.end);
+        }
+        // Every step keeps a record in memory: a path of more steps is a
+        // step given in the wrong unit, and would overflow the step count.
+        let steps = (self.end - self.start) / self.step;
+        if !(steps < MAX_STEPS as f64) {
+            return Err(RollingError::InvalidInput(format!(
+                "path of {steps:.3e} steps (from {} m to {} m by {} m): at most {MAX_STEPS} \
+                 steps; is the step in the right unit?",
+                self.start, self.end, self.step
+            )));
         }
         if !(self.speed.is_finite() && self.speed > 0.0) {
             return bad("speed must be finite and > 0 m/s", self.speed);

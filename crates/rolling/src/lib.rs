@@ -76,8 +76,14 @@
 //! - the selection is exact when [`StepRecord::clearance`] is positive: every
 //!   asperity left out has a gap larger than `δ0` (and `u_i ≥ 0`), so it would
 //!   carry exactly zero; nothing jumps when an asperity enters the window;
+//! - a step whose solve does not converge is recorded as
+//!   [`StepStatus::Failed`] (NaN values, no contacts) and the run goes on,
+//!   the next step cold-started; every step records its status, recovery,
+//!   iterations and residual;
 //! - a run killed part-way resumes from its checkpoint ([`CheckpointOptions`])
-//!   without recomputing finished steps, bit for bit;
+//!   without recomputing finished steps, bit for bit; a checkpoint that is
+//!   damaged, edited or disagrees with the inputs is refused
+//!   ([`RollingError::CheckpointRejected`]), never resumed;
 //! - user input never panics: errors are [`RollingError`]s.
 //!
 //! # Example
@@ -116,8 +122,10 @@ mod synth;
 mod tread;
 
 pub use checkpoint::input_hash;
-pub use config::{CheckpointOptions, RollingConfig, RollingControl};
-pub use record::{RollingResult, StepRecord};
+pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
+pub use record::{
+    Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
+};
 pub use road::Road;
 pub use run::{Progress, ProgressFn, RunOptions, roll};
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
@@ -163,4 +171,13 @@ pub enum RollingError {
     /// A checkpoint file could not be read or written.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
+    /// A checkpoint file is damaged (checksum), edited, or disagrees with
+    /// the inputs; it is not resumed. Delete it to recompute its steps.
+    #[error("checkpoint {file} refused: {reason}; delete it to recompute its steps")]
+    CheckpointRejected {
+        /// The file's path.
+        file: String,
+        /// What is wrong with it.
+        reason: String,
+    },
 }

@@ -70,9 +70,13 @@ impl Default for RunOptions<'_> {
 /// checkpoint files keyed by the inputs' hash and not recomputed, and each
 /// chunk writes its finished steps atomically as it goes.
 ///
-/// Errors: invalid configuration, a step that does not converge (with its
+/// A step whose solve does not converge is recorded as
+/// [`StepStatus::Failed`](crate::StepStatus) and the run goes on (the next
+/// step cold-starts).
+///
+/// Errors: invalid configuration, a malformed step problem (with its
 /// position), no asperity under a loaded footprint, a checkpoint that cannot
-/// be read or written, or [`RollingError::Interrupted`] when the progress
+/// be read or written or is refused, or [`RollingError::Interrupted`] when the progress
 /// callback asked to stop.
 pub fn roll<L: ContactLaw + Sync>(
     road: &Road<L>,
@@ -86,7 +90,15 @@ pub fn roll<L: ContactLaw + Sync>(
     let mut done: Vec<Option<StepRecord>> = vec![None; total];
     let mut states = HashMap::new();
     if let Some(ck) = options.checkpoint {
-        let loaded = checkpoint::load(ck, hash, config.sensors.len())?;
+        let expect = checkpoint::Expect {
+            hash,
+            config,
+            road_len: road.len(),
+            boundary: config
+                .tread
+                .boundary_profile(config.tread.effective_margin(config.margin)),
+        };
+        let loaded = checkpoint::load(ck, &expect)?;
         states = loaded.states;
         for r in loaded.records {
             if r.index < total {
@@ -256,4 +268,90 @@ fn run_chunk<L: ContactLaw + Sync>(
         save(&records, &carry)?;
     }
     Ok(records)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use tyreroad_contact_law::Material;
+
+    use super::*;
+    use crate::step::FAIL_STEP;
+    use crate::{StepStatus, SyntheticRoad, Tread};
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300)
+    }
+
+    /// One step forced to fail: the run completes, that step is marked
+    /// failed with NaN values, the steps before it are bit for bit those of
+    /// an uninterrupted run and the ones after it (the next cold-starts)
+    /// equal them to the solver tolerance; a checkpoint keeps the failed
+    /// step and resumes bit for bit.
+    #[test]
+    fn a_failed_step_is_recorded_and_the_run_goes_on() -> Result<(), Box<dyn std::error::Error>> {
+        let rubber = Material::new(6.54e6, 0.5)?;
+        let road = SyntheticRoad {
+            seed: 7,
+            length: 0.2,
+            width: 0.06,
+            density: 30_000.0,
+            ..SyntheticRoad::default()
+        }
+        .sphere_road(rubber)?;
+        let tyre = Tread::Tyre {
+            radius_x: 0.3,
+            radius_y: 0.2,
+            length: 0.1,
+            width: 0.06,
+        };
+        let config = RollingConfig::new(
+            tyre,
+            [0.05, 0.09, 2e-3],
+            13.9,
+            crate::RollingControl::Load(120.0),
+        );
+        let clean = roll(&road, rubber, &config, &RunOptions::default())?;
+        assert!(clean.all_converged());
+        let failed_at = 7;
+        FAIL_STEP.with(|f| f.set(Some(failed_at)));
+        let dir = std::env::temp_dir().join(format!("tyreroad-failed-step-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let ck = CheckpointOptions {
+            dir: dir.clone(),
+            interval: Duration::ZERO,
+        };
+        let with_checkpoint = RunOptions {
+            checkpoint: Some(&ck),
+            ..RunOptions::default()
+        };
+        let run = roll(&road, rubber, &config, &with_checkpoint);
+        FAIL_STEP.with(|f| f.set(None));
+        let run = run?;
+        assert_eq!(run.steps.len(), clean.steps.len());
+        assert_eq!(run.status_counts(), [clean.steps.len() - 1, 0, 1]);
+        assert!(!run.all_converged());
+        let bad = &run.steps[failed_at];
+        assert_eq!(bad.status, StepStatus::Failed);
+        assert!(bad.total_force.is_nan() && bad.approach.is_nan() && bad.contact_ids.is_empty());
+        assert_eq!(run.steps[..failed_at], clean.steps[..failed_at]);
+        for (a, b) in run.steps.iter().zip(&clean.steps).skip(failed_at + 1) {
+            assert_eq!(a.status, StepStatus::Converged);
+            assert_eq!(
+                (a.index, a.contact_ids.clone()),
+                (b.index, b.contact_ids.clone())
+            );
+            assert!(close(a.total_force, b.total_force), "{a:?}\n{b:?}");
+            assert!(close(a.approach, b.approach), "{a:?}\n{b:?}");
+            assert!(close(a.contact_area, b.contact_area), "{a:?}\n{b:?}");
+        }
+        // The failed step comes back from the checkpoint as it was (NaN
+        // compares unequal, so compare the bits through the Debug text).
+        let again = roll(&road, rubber, &config, &with_checkpoint)?;
+        assert_eq!(again.resumed, run.steps.len());
+        assert_eq!(format!("{:?}", again.steps), format!("{:?}", run.steps));
+        let _ = std::fs::remove_dir_all(&dir);
+        Ok(())
+    }
 }

@@ -4,10 +4,11 @@
 
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
-    Boussinesq, Control, Par, Problem, Solution, SolverOptions, overlapping_contacts, solve_from,
+    Boussinesq, Control, Convergence, Par, Problem, Recovery, Solution, SolveError, SolverOptions,
+    overlapping_contacts, solve_from,
 };
 
-use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, Tread};
+use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread};
 
 /// The selected asperity ids and the multipoint problem on them.
 pub type StepProblem<'r, L> = (Vec<usize>, Problem<&'r L>);
@@ -81,6 +82,13 @@ pub(crate) fn imposed<L>(road: &Road<L>, control: RollingControl) -> Control {
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Test hook: the step whose solve is made to fail (on this thread).
+    pub(crate) static FAIL_STEP: std::cell::Cell<Option<usize>> =
+        const { std::cell::Cell::new(None) };
+}
+
 /// The state carried from one step to the next (warm start): forces by
 /// asperity id (ids absent carry zero) and the approach.
 #[derive(Clone, Debug, PartialEq)]
@@ -119,6 +127,9 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         contacts: 0,
         selected: 0,
         iterations: 0,
+        status: StepStatus::Converged,
+        recovery: Recovery::None,
+        residual: 0.0,
         clearance: boundary - approach,
         overlapping: 0,
         sensor_forces: vec![0.0; config.sensors.len()],
@@ -167,12 +178,35 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         par: Par::Seq,
         ..SolverOptions::default()
     };
-    let solution = solve_from(&problem, control, &options, initial.as_ref()).map_err(|source| {
-        RollingError::Solve {
-            position: xc,
-            source,
+    #[cfg(test)]
+    if FAIL_STEP.with(std::cell::Cell::get) == Some(k) {
+        *carry = None;
+        return Ok(failed_step(config, k, ids.len(), 0, 1.0));
+    }
+    let solution = match solve_from(&problem, control, &options, initial.as_ref()) {
+        Ok(solution) => solution,
+        // One step that does not converge is that step's failure, not the
+        // run's: it is recorded with NaN values and the next step
+        // cold-starts (a warm start from a failed state could only hurt).
+        Err(SolveError::NotConverged {
+            iterations,
+            residual,
+            ..
+        }) => {
+            *carry = None;
+            return Ok(failed_step(config, k, ids.len(), iterations, residual));
         }
-    })?;
+        Err(source) => {
+            return Err(RollingError::Solve {
+                position: xc,
+                source,
+            });
+        }
+    };
+    let status = match solution.convergence {
+        Convergence::Converged => StepStatus::Converged,
+        Convergence::Stagnated { .. } => StepStatus::Stagnated,
+    };
     let contacts = solution.local_contacts(&problem);
     let pos = road.positions();
     let mut sensor_forces = vec![0.0; config.sensors.len()];
@@ -200,6 +234,9 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         contacts: in_contact,
         selected: ids.len(),
         iterations: solution.iterations,
+        status,
+        recovery: solution.recovery,
+        residual: solution.residual,
         clearance: boundary - solution.approach,
         overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
         sensor_forces,
@@ -212,4 +249,34 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         approach: solution.approach,
     });
     Ok(record)
+}
+
+/// The record of a step whose solve failed: NaN values, no contacts.
+pub(crate) fn failed_step(
+    config: &RollingConfig,
+    k: usize,
+    selected: usize,
+    iterations: usize,
+    residual: f64,
+) -> StepRecord {
+    let xc = config.position(k);
+    StepRecord {
+        index: k,
+        position: xc,
+        time: xc / config.speed,
+        total_force: f64::NAN,
+        approach: f64::NAN,
+        contact_area: f64::NAN,
+        contacts: 0,
+        selected,
+        iterations,
+        status: StepStatus::Failed,
+        recovery: Recovery::None,
+        residual,
+        clearance: f64::NAN,
+        overlapping: 0,
+        sensor_forces: vec![f64::NAN; config.sensors.len()],
+        contact_ids: Vec::new(),
+        contact_forces: Vec::new(),
+    }
 }

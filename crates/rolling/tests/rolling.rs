@@ -377,6 +377,16 @@ fn killed_run_resumes_from_checkpoint() -> TestResult {
     assert_eq!(resumed.resumed, done);
     assert_eq!(computed.load(Ordering::SeqCst), total - done);
     assert_eq!(resumed.steps, uninterrupted.steps);
+    // Each step's status, recovery and residual (checkpoint format 5) come
+    // back as they were computed.
+    let outcome = |r: &RollingResult| -> Vec<_> {
+        r.steps
+            .iter()
+            .map(|s| (s.status, s.recovery, s.iterations, s.residual.to_bits()))
+            .collect()
+    };
+    assert_eq!(outcome(&resumed), outcome(&uninterrupted));
+    assert!(uninterrupted.all_converged());
     // The per-asperity forces (in `steps` above) spelt out: the same ids and
     // the same bits, restored from the checkpoint as well as recomputed.
     let bits = |r: &RollingResult| -> Vec<(usize, usize, u64)> {
@@ -491,6 +501,16 @@ fn bad_input_is_an_error_not_a_panic() {
     let mut c = good.clone();
     c.end = 0.0;
     assert!(roll(&road, m, &c, &o).is_err());
+    // A step in the wrong unit: an error, not a step-count overflow or a
+    // runaway allocation.
+    for step in [1e-300, 1e-9] {
+        let mut c = good.clone();
+        c.step = step;
+        assert!(matches!(
+            roll(&road, m, &c, &o),
+            Err(RollingError::InvalidInput(e)) if e.contains("steps")
+        ));
+    }
     let mut c = good.clone();
     c.tread = Tread::Block {
         length: -1.0,
