@@ -53,7 +53,11 @@ enum Command {
     },
     /// Solve and roll every hard road kind; print the table of what
     /// converged, what fell back and the time it took.
-    Torture,
+    Torture {
+        /// Only this road kind (a `[texture.synth] kind`).
+        #[arg(long)]
+        kind: Option<String>,
+    },
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
     /// Road textures: `info FILE` (Sq, MPD, ...) and `synth ... --out FILE.x3p`.
@@ -68,7 +72,7 @@ fn main() -> Result<()> {
         Command::Validate(args) => validate::run(&args),
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
-        Command::Torture => torture::run(),
+        Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::Run {
             scenario,
             out,

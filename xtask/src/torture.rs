@@ -79,12 +79,22 @@ struct Row {
     rolling_seconds: f64,
 }
 
-/// Runs the torture table and prints it (Markdown, for docs/validation.md).
-/// Fails (after the whole table) if any load or step did not converge.
-pub fn run() -> Result<()> {
+/// Runs the torture table on `only` (or every kind) and prints it
+/// (Markdown, for docs/validation.md). Fails (after the whole table) if any
+/// load or step failed.
+pub fn run(only: Option<&str>) -> Result<()> {
+    if let Some(k) = only
+        && !KINDS.iter().any(|(kind, _)| *kind == k)
+    {
+        let known: Vec<&str> = KINDS.iter().map(|(kind, _)| *kind).collect();
+        anyhow::bail!("unknown road kind `{k}` (known: {})", known.join(", "));
+    }
     let mut rows = Vec::new();
     let mut failures = 0;
-    for (kind, seed) in KINDS {
+    for (kind, seed) in KINDS
+        .into_iter()
+        .filter(|(k, _)| only.is_none_or(|o| o == *k))
+    {
         eprintln!("torture: {kind} ...");
         let base = RunOptions::new(".");
         let t = Instant::now();
@@ -110,8 +120,19 @@ pub fn run() -> Result<()> {
         let t = Instant::now();
         let steps = match Scenario::parse(&rolling_scenario(kind, seed), kind)?.run(&base) {
             Ok(ScenarioResult::Rolling(run)) => {
-                let done = run.result.steps.len();
-                format!("{done}/{done}")
+                let [converged, stagnated, failed] = run.result.status_counts();
+                if failed > 0 {
+                    failures += 1;
+                }
+                let total = run.result.steps.len();
+                let mut cell = format!("{converged}/{total}");
+                if stagnated > 0 {
+                    cell += &format!(" ({stagnated} stagnated)");
+                }
+                if failed > 0 {
+                    cell += &format!(" ({failed} failed)");
+                }
+                cell
             }
             Ok(_) => "?".into(),
             Err(e) => {
@@ -148,7 +169,7 @@ pub fn run() -> Result<()> {
         );
     }
     if failures > 0 {
-        anyhow::bail!("{failures} runs did not complete");
+        anyhow::bail!("{failures} runs had a failed load or step");
     }
     Ok(())
 }
