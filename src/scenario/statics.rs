@@ -3,7 +3,9 @@
 use std::time::Instant;
 
 use tyreroad_contact_law::{ContactLaw, LocalContact};
-use tyreroad_multipoint::{Control, Problem, SolverOptions, overlapping_contacts, solve};
+use tyreroad_multipoint::{
+    Control, Problem, SolveError, SolverOptions, overlapping_contacts, solve,
+};
 
 use super::{Scenario, ScenarioError};
 
@@ -55,8 +57,11 @@ pub struct StaticResult {
     pub name: String,
     /// One row per asperity and load.
     pub rows: Vec<StaticRow>,
-    /// One report per load, in the order of `[static] loads`.
+    /// One report per solved load, in the order of `[static] loads`.
     pub runs: Vec<LoadRun>,
+    /// The loads whose solve did not converge (N) and why: each load is its
+    /// own item, so the others are solved and written all the same.
+    pub failed_loads: Vec<(f64, String)>,
 }
 
 impl StaticResult {
@@ -118,8 +123,12 @@ pub struct StaticSolve {
 /// Solves a prepared problem at each of `loads` (N); `ids[k]` labels
 /// asperity `k`.
 ///
+/// A load whose solve does not converge is recorded in
+/// [`StaticResult::failed_loads`] and the next load is solved.
+///
 /// # Errors
-/// As many ids as asperities are needed; a failed solve names its load.
+/// As many ids as asperities are needed; an invalid problem or options, or
+/// no load solved at all, is an error naming the load.
 pub fn run_static_problem<L: ContactLaw + Sync>(
     name: &str,
     problem: &Problem<L>,
@@ -135,14 +144,22 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
         )));
     }
     let (mut rows, mut runs, mut locals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut failed_loads = Vec::new();
     for &load in loads {
         let start = Instant::now();
-        let s = solve(problem, Control::Load(load), options).map_err(|source| {
-            ScenarioError::Solve {
-                context: format!("solving {name} at {load} N"),
-                source,
+        let s = match solve(problem, Control::Load(load), options) {
+            Ok(s) => s,
+            Err(source @ SolveError::NotConverged { .. }) => {
+                failed_loads.push((load, source.to_string()));
+                continue;
             }
-        })?;
+            Err(source) => {
+                return Err(ScenarioError::Solve {
+                    context: format!("solving {name} at {load} N"),
+                    source,
+                });
+            }
+        };
         let seconds = start.elapsed().as_secs_f64();
         let contacts = s.local_contacts(problem);
         for (k, (&[x, y], c)) in problem.positions().iter().zip(&contacts).enumerate() {
@@ -167,11 +184,19 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
         });
         locals.push(contacts);
     }
+    if runs.is_empty()
+        && let Some((load, why)) = failed_loads.first()
+    {
+        return Err(ScenarioError::Invalid(format!(
+            "{name}: no load solved; at {load} N: {why}"
+        )));
+    }
     Ok(StaticSolve {
         result: StaticResult {
             name: name.into(),
             rows,
             runs,
+            failed_loads,
         },
         local_contacts: locals,
     })

@@ -99,6 +99,7 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
         ScenarioResult::Static(r) => {
             statics::print_table(&r.rows);
             statics::print_runs(&r.runs);
+            fallbacks += statics::print_failed_loads(&r.failed_loads);
             statics::write_static_outputs(&mut set, &s.name, &r.rows)?;
         }
         ScenarioResult::Rolling(run) => {

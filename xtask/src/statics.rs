@@ -95,6 +95,14 @@ pub fn print_runs(runs: &[LoadRun]) {
     }
 }
 
+/// Prints the loads that did not converge; returns how many.
+pub fn print_failed_loads(failed: &[(f64, String)]) -> usize {
+    for (load, why) in failed {
+        println!("load {load} N: FAILED, not written: {why}");
+    }
+    failed.len()
+}
+
 /// Prints the staged files' final paths.
 pub fn print_written(written: &[std::path::PathBuf]) {
     for w in written {

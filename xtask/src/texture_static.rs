@@ -145,6 +145,7 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
         set.write_csv(&format!("{name}_two_scale.csv"), &local)?;
     }
     set.write(&format!("{name}_height_map.npz"), &height_map_npz(&r.map)?)?;
+    fallbacks += crate::statics::print_failed_loads(&r.statics.failed_loads);
     if fallbacks > 0 {
         println!(
             "summary: {fallbacks} asperity fields fell back to a lower-fidelity field (see \

@@ -44,6 +44,9 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     let scenario = Scenario::parse(&text, &origin)?;
     println!("== {} — {}", scenario.name, scenario.description);
     let statics = run_static(&scenario)?;
+    if let Some((load, why)) = statics.failed_loads.first() {
+        bail!("validation: the load {load} N did not converge: {why}");
+    }
     let (rows, runs) = (&statics.rows, &statics.runs);
     let mut checks = Vec::new();
 

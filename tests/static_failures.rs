@@ -1,0 +1,77 @@
+//! One load is one item: a load whose solve cannot converge is recorded and
+//! the other loads of the sweep are solved and kept
+//! (`tyreroad::scenario::run_static_problem`).
+
+use tyreroad::asperity::Sphere;
+use tyreroad::contact_law::{Material, PotentialLaw};
+use tyreroad::multipoint::{Problem, SolverOptions};
+use tyreroad::scenario::run_static_problem;
+
+fn lcg(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// 36 balls of R = 50 mm on a jittered 1 mm grid: their contacts overlap
+/// under load and the point-force model's load path folds at 88 % of 100 N
+/// (crates/multipoint/tests/recovery.rs), so 100 N has no solution on the
+/// branch the solver follows while 40 and 50 N do.
+fn folding_layout() -> Result<Problem<PotentialLaw<Sphere>>, Box<dyn std::error::Error>> {
+    let rubber = Material::new(6.54e6, 0.5)?;
+    let mut seed = 1;
+    let (mut positions, mut gaps) = (Vec::new(), Vec::new());
+    for j in 0..6 {
+        for i in 0..6 {
+            positions.push([
+                (f64::from(i) + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
+                (f64::from(j) + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
+            ]);
+            gaps.push(20e-6 * lcg(&mut seed));
+        }
+    }
+    let law = PotentialLaw::sphere(Sphere::new(50e-3)?, rubber);
+    Ok(Problem::new(positions, gaps, vec![law; 36], rubber)?)
+}
+
+#[test]
+fn a_load_that_cannot_converge_is_recorded_and_the_others_are_solved()
+-> Result<(), Box<dyn std::error::Error>> {
+    let problem = folding_layout()?;
+    let ids: Vec<u32> = (1..=36).collect();
+    let solved = run_static_problem(
+        "folding",
+        &problem,
+        &ids,
+        &[50.0, 100.0, 40.0],
+        &SolverOptions::default(),
+    )?;
+    let r = &solved.result;
+    let solved_loads: Vec<f64> = r.runs.iter().map(|run| run.load).collect();
+    assert_eq!(solved_loads, vec![50.0, 40.0]);
+    assert_eq!(r.failed_loads.len(), 1);
+    assert_eq!(r.failed_loads[0].0, 100.0);
+    assert!(
+        r.failed_loads[0].1.contains("did not converge"),
+        "{}",
+        r.failed_loads[0].1
+    );
+    // The solved loads balance, and only they have rows.
+    for run in &r.runs {
+        assert!((run.total - run.load).abs() <= 1e-9 * run.load);
+        assert_eq!(r.at_load(run.load).len(), 36);
+    }
+    assert!(r.at_load(100.0).is_empty());
+    // With no load solved the sweep is an error that names the load.
+    let e = run_static_problem(
+        "folding",
+        &problem,
+        &ids,
+        &[100.0],
+        &SolverOptions::default(),
+    )
+    .expect_err("nothing solved");
+    assert!(e.to_string().contains("100 N"), "{e}");
+    Ok(())
+}
