@@ -4,7 +4,7 @@
 
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::{Material, PotentialLaw};
-use tyreroad::multipoint::{Problem, SolverOptions};
+use tyreroad::multipoint::{Problem, SolverOptions, layouts};
 use tyreroad::scenario::run_static_problem;
 
 fn lcg(seed: &mut u64) -> f64 {
@@ -14,25 +14,14 @@ fn lcg(seed: &mut u64) -> f64 {
     (*seed >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// 36 balls of R = 50 mm on a jittered 1 mm grid: their contacts overlap
-/// under load and the point-force model's load path folds at 88 % of 100 N
-/// (crates/multipoint/tests/recovery.rs), so 100 N has no solution on the
-/// branch the solver follows while 40 and 50 N do.
+/// `layouts::folding_field` from seed 1: the point-force model's load path
+/// folds at 88 % of 100 N (crates/multipoint/tests/recovery.rs), so 100 N
+/// has no solution on the branch the solver follows while 40 and 50 N do.
 fn folding_layout() -> Result<Problem<PotentialLaw<Sphere>>, Box<dyn std::error::Error>> {
-    let rubber = Material::new(6.54e6, 0.5)?;
     let mut seed = 1;
-    let (mut positions, mut gaps) = (Vec::new(), Vec::new());
-    for j in 0..6 {
-        for i in 0..6 {
-            positions.push([
-                (f64::from(i) + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
-                (f64::from(j) + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
-            ]);
-            gaps.push(20e-6 * lcg(&mut seed));
-        }
-    }
-    let law = PotentialLaw::sphere(Sphere::new(50e-3)?, rubber);
-    Ok(Problem::new(positions, gaps, vec![law; 36], rubber)?)
+    Ok(layouts::folding_field(Material::new(6.54e6, 0.5)?, || {
+        lcg(&mut seed)
+    })?)
 }
 
 #[test]

@@ -28,8 +28,6 @@ pub const TOLERANCE_RANGE: [f64; 2] = [1e-15, 1e-3];
 pub const MAX_ITERATIONS: usize = 100_000;
 /// Range of a potential-law shape constant `c` (sphere 0.36, cone 0.45).
 pub const CONSTANT_RANGE: [f64; 2] = [1e-3, 10.0];
-/// Most steps on a rolling path.
-pub const MAX_STEPS: f64 = 1e7;
 /// Most points of a synthesised height map (8 bytes each, and a mask).
 pub const MAX_MAP_POINTS: f64 = 2e8;
 /// Most summits of a synthetic sphere road.
@@ -348,11 +346,15 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
             "≥ start",
         ));
     }
-    if steps > MAX_STEPS {
+    // The rolling crate's own bound, checked here first so the error names the key.
+    if steps > tyreroad_rolling::MAX_STEPS as f64 {
         return Err(bad(
             "[rolling] step",
             format!("{:e} m ({steps:e} steps)", r.step.value()),
-            &format!("a step giving at most {MAX_STEPS:e} steps from start to end"),
+            &format!(
+                "a step giving at most {} steps from start to end",
+                tyreroad_rolling::MAX_STEPS
+            ),
         ));
     }
     in_range(

@@ -102,12 +102,20 @@ pub fn run(only: Option<&str>) -> Result<()> {
             match Scenario::parse(&static_scenario(kind, seed), kind)?.run(&base) {
                 Ok(ScenarioResult::Texture(r)) => {
                     let converged = r.statics.runs.len();
+                    let failed = r.statics.failed_loads.len();
+                    if failed > 0 {
+                        failures += 1;
+                    }
                     let fallbacks = r
                         .loads
                         .iter()
                         .map(|l| l.two_scale.fallbacks().count())
                         .sum();
-                    (r.texture.asperities, format!("{converged}/3"), fallbacks)
+                    (
+                        r.texture.asperities,
+                        format!("{converged}/{}", converged + failed),
+                        fallbacks,
+                    )
                 }
                 Ok(_) => (0, "?".into(), 0),
                 Err(e) => {

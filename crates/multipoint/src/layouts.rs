@@ -287,3 +287,31 @@ pub fn road_like_field(
         material,
     )
 }
+
+/// 36 balls of R = 50 mm on a 6 × 6 grid of 1 mm pitch, each jittered by up
+/// to ±0.15 mm in x and y, with initial gaps up to 20 µm (three draws a
+/// ball: x, y, gap). Under about 100 N their Hertz radii (≈ 1.7 mm) exceed
+/// the spacing, so the point-force coupling outweighs the laws'
+/// compliances, `diag(1/k) + T` turns indefinite and the load path folds
+/// before the load (docs/theory.md §3): the layout on which a solve must
+/// fail cleanly, and short of the fold converge.
+///
+/// # Errors
+/// As [`Problem::new`] (never, for draws in `[0, 1)`).
+pub fn folding_field(
+    material: Material,
+    mut uniform: impl FnMut() -> f64,
+) -> Result<Problem<PotentialLaw<Sphere>>, SolveError> {
+    let (mut positions, mut gaps) = (Vec::new(), Vec::new());
+    for j in 0..6 {
+        for i in 0..6 {
+            let x = (f64::from(i) + 0.3 * (uniform() - 0.5)) * 1e-3;
+            let y = (f64::from(j) + 0.3 * (uniform() - 0.5)) * 1e-3;
+            positions.push([x, y]);
+            gaps.push(20e-6 * uniform());
+        }
+    }
+    let ball = Sphere::new(50e-3).map_err(|e| SolveError::InvalidInput(e.to_string()))?;
+    let law = PotentialLaw::sphere(ball, material);
+    Problem::new(positions, gaps, vec![law; 36], material)
+}

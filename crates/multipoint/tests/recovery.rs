@@ -69,27 +69,11 @@ fn a_tolerance_below_double_precision_is_met_up_to_the_rounding_floor() {
     );
 }
 
-/// 36 balls of R = 50 mm on a jittered 1 mm grid, heights within 20 µm:
-/// under 100 N their Hertz radii (≈ 1.7 mm) exceed the spacing, so the
-/// point-force coupling `T_ij = 1/(π E* r_ij)` outweighs the compliances
-/// `1/k_i` and `diag(1/k) + T` turns indefinite. The load path from first
-/// contact folds at 88 % of the load (the continuation stalls there at any
-/// step size): the branch Newton can follow has no state at 100 N
-/// (docs/theory.md §3).
+/// The layout whose load path folds before 100 N
+/// (`layouts::folding_field`, drawn from seed 1).
 fn folding_layout() -> Problem<PotentialLaw<Sphere>> {
     let mut seed = 1;
-    let (mut positions, mut gaps) = (Vec::new(), Vec::new());
-    for j in 0..6 {
-        for i in 0..6 {
-            positions.push([
-                (i as f64 + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
-                (j as f64 + 0.3 * (lcg(&mut seed) - 0.5)) * 1e-3,
-            ]);
-            gaps.push(20e-6 * lcg(&mut seed));
-        }
-    }
-    let law = PotentialLaw::sphere(Sphere::new(50e-3).unwrap(), rubber());
-    Problem::new(positions, gaps, vec![law; 36], rubber()).unwrap()
+    layouts::folding_field(rubber(), || lcg(&mut seed)).unwrap()
 }
 
 #[test]
