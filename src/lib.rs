@@ -22,3 +22,4 @@ pub use tyreroad_texture as texture;
 pub mod scenario;
 pub mod texture_road;
 pub mod two_scale;
+pub mod bem_rolling;
