@@ -151,10 +151,16 @@ enum Scale {
     Peak,
 }
 
+/// A signal's one-third-octave levels.
+type Spectrum<'a> = &'a dyn Fn(&[f64]) -> Result<Vec<BandLevel>, BemRollingError>;
+
 /// Whether the finite samples of `x` agree to 1e-9 of their magnitude.
 fn is_constant(x: &[f64]) -> bool {
     let finite = || x.iter().copied().filter(|v| v.is_finite());
-    let (lo, hi) = (finite().fold(f64::INFINITY, f64::min), finite().fold(f64::NEG_INFINITY, f64::max));
+    let (lo, hi) = (
+        finite().fold(f64::INFINITY, f64::min),
+        finite().fold(f64::NEG_INFINITY, f64::max),
+    );
     hi - lo <= 1e-9 * lo.abs().max(hi.abs())
 }
 
@@ -164,7 +170,7 @@ fn signal(
     model: &[f64],
     reference: &[f64],
     scale: Scale,
-    spectrum: &dyn Fn(&[f64]) -> Result<Vec<BandLevel>, BemRollingError>,
+    spectrum: Spectrum<'_>,
     resolved_from: f64,
 ) -> Result<SignalComparison, BemRollingError> {
     let pairs: Vec<(f64, f64)> = model

@@ -262,8 +262,8 @@ pub fn roll_bem(
         });
     }
     let (j0, ny) = (j0 as usize, (j1 - j0) as usize);
-    let window_grid =
-        Grid::new(nx, ny, g.dx(), g.dy()).map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+    let window_grid = Grid::new(nx, ny, g.dx(), g.dy())
+        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
     let bem_options = BemOptions {
         tolerance: options.tolerance,
         max_iterations: options.max_iterations,
@@ -286,7 +286,14 @@ pub fn roll_bem(
         let guess = previous
             .as_ref()
             .map(|(w, p)| shift_pressure(p, *w, window));
-        let solved = solve_step(&mut solver, &surface, config.control, z_max, guess.as_deref(), k)?;
+        let solved = solve_step(
+            &mut solver,
+            &surface,
+            config.control,
+            z_max,
+            guess.as_deref(),
+            k,
+        )?;
         let step = match solved {
             Some((solution, approach)) => {
                 let record = record_step(config, k, &solution, approach, window, g);
@@ -367,10 +374,7 @@ fn effective_surface(
 
 /// The previous pressure moved onto the new window (cells entering at 0).
 fn shift_pressure(p: &[f64], from: Window, to: Window) -> Vec<f64> {
-    let (di, dj) = (
-        to.i0 as i64 - from.i0 as i64,
-        to.j0 as i64 - from.j0 as i64,
-    );
+    let (di, dj) = (to.i0 as i64 - from.i0 as i64, to.j0 as i64 - from.j0 as i64);
     let mut out = vec![0.0; to.nx * to.ny];
     for j in 0..to.ny {
         let sj = j as i64 + dj;

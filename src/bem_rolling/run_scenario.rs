@@ -65,6 +65,10 @@ pub struct Stretch {
     pub start: Option<f64>,
     /// Steps.
     pub steps: Option<usize>,
+    /// Welch segment (samples) of the spectra of both runs, instead of the
+    /// scenario's `[rolling] segment` (or the core's default, half the
+    /// signal).
+    pub segment: Option<usize>,
 }
 
 /// Runs `scenario` (a `[rolling]` run on a `[texture]`) over `stretch` by
@@ -101,7 +105,9 @@ pub fn run_scenario_comparison(
         )));
     }
     if stretch.steps == Some(0) {
-        return Err(BemRollingError::InvalidInput("steps must be >= 1, got 0".into()));
+        return Err(BemRollingError::InvalidInput(
+            "steps must be >= 1, got 0".into(),
+        ));
     }
     let end = stretch
         .steps
@@ -109,7 +115,13 @@ pub fn run_scenario_comparison(
     spec.start = Length::si(start);
     spec.end = Length::si(end);
     spec.checkpoint = false;
-    let (segment, reference_force) = (spec.segment, spec.reference_force.map_or(1.0, |f| f.value()));
+    if stretch.segment.is_some() {
+        spec.segment = stretch.segment;
+    }
+    let (segment, reference_force) = (
+        spec.segment,
+        spec.reference_force.map_or(1.0, |f| f.value()),
+    );
     let run_options = RunOptions {
         par: Some(par),
         ..RunOptions::new(base_dir)
@@ -124,10 +136,15 @@ pub fn run_scenario_comparison(
     let config: &RollingConfig = &multipoint.config;
     let road = texture_field(&map)?;
     let clock = Instant::now();
-    let bem = roll_bem(&road, scenario.material()?, config, &BemRollingOptions {
-        par,
-        ..options.clone()
-    })?;
+    let bem = roll_bem(
+        &road,
+        scenario.material()?,
+        config,
+        &BemRollingOptions {
+            par,
+            ..options.clone()
+        },
+    )?;
     let bem_time = clock.elapsed();
     let comparison = compare(
         &multipoint.result,

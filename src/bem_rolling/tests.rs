@@ -23,7 +23,12 @@ fn material() -> Material {
 /// alternating 0 and −0.1 mm (so forces differ from sphere to sphere).
 fn summits() -> Vec<([f64; 2], f64)> {
     (0..8)
-        .map(|k| ([4e-3 + 9e-3 * k as f64, 0.0], if k % 2 == 0 { 0.0 } else { -1e-4 }))
+        .map(|k| {
+            (
+                [4e-3 + 9e-3 * k as f64, 0.0],
+                if k % 2 == 0 { 0.0 } else { -1e-4 },
+            )
+        })
         .collect()
 }
 
@@ -95,20 +100,25 @@ fn rolling_bem_matches_the_multipoint_model_on_widely_spaced_spheres() {
     let law = HertzLaw::new(R, material()).expect("Hertz law");
     let set = AsperitySet::new(positions.clone(), heights, vec![law; positions.len()])
         .expect("valid set");
-    let model = roll(&Road::new(set), material(), &config, &RunOptions::default())
-        .expect("multipoint run");
+    let model =
+        roll(&Road::new(set), material(), &config, &RunOptions::default()).expect("multipoint run");
     assert_eq!(bem.failed(), 0);
     for (m, b) in model.steps.iter().zip(&bem.steps) {
         // Load control: both carry the load exactly.
-        assert!((b.total_force - 3.0).abs() < 1e-9 * 3.0, "{}", b.total_force);
-        // Hertz on 11-cell contacts and true spheres against paraboloids:
-        // the approach agrees to 1 %.
+        assert!(
+            (b.total_force - 3.0).abs() < 1e-9 * 3.0,
+            "{}",
+            b.total_force
+        );
+        // Hertz on 11-cell contacts, true spheres against paraboloids, a
+        // 1 m tread's curvature ignored by the laws: measured 0.13 %.
         let approach_error = (m.approach - b.approach).abs() / b.approach.abs();
-        assert!(approach_error < 0.01, "step {}: {approach_error}", m.index);
-        // The sensor around one sphere: its force, within 2 % of the load.
+        assert!(approach_error < 0.005, "step {}: {approach_error}", m.index);
+        // A sensor around one sphere, and one cutting another in four:
+        // measured within 0.22 % of the load.
         for k in 0..2 {
             let diff = (m.sensor_forces[k] - b.sensor_forces[k]).abs();
-            assert!(diff < 0.02 * 3.0, "step {} sensor {k}: {diff} N", m.index);
+            assert!(diff < 0.005 * 3.0, "step {} sensor {k}: {diff} N", m.index);
         }
     }
     // The sphere under the first sensor is unloaded as the tyre moves on.
@@ -169,8 +179,13 @@ fn one_step_equals_a_static_bem_solve_of_the_tread_on_the_road() {
 #[test]
 fn a_warm_started_step_equals_a_cold_started_one() {
     let road = road_map();
-    let run = roll_bem(&road, material(), &config(8, RollingControl::Load(3.0)), &options())
-        .expect("run");
+    let run = roll_bem(
+        &road,
+        material(),
+        &config(8, RollingControl::Load(3.0)),
+        &options(),
+    )
+    .expect("run");
     let mut single = config(1, RollingControl::Load(3.0));
     single.start = run.steps[7].position;
     single.end = single.start;
@@ -216,7 +231,10 @@ fn the_pressure_moves_with_the_window() {
     };
     let to = Window { i0: 11, ..from };
     let p = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
-    assert_eq!(shift_pressure(&p, from, to), vec![2.0, 3.0, 0.0, 5.0, 6.0, 0.0]);
+    assert_eq!(
+        shift_pressure(&p, from, to),
+        vec![2.0, 3.0, 0.0, 5.0, 6.0, 0.0]
+    );
 }
 
 #[test]
@@ -224,5 +242,8 @@ fn a_footprint_leaving_the_map_is_a_named_error() {
     let mut config = config(3, RollingControl::Load(3.0));
     config.end = 0.2;
     let err = roll_bem(&road_map(), material(), &config, &options()).expect_err("off the map");
-    assert!(matches!(err, BemRollingError::OffMap { axis: "x", .. }), "{err}");
+    assert!(
+        matches!(err, BemRollingError::OffMap { axis: "x", .. }),
+        "{err}"
+    );
 }

@@ -29,6 +29,10 @@ pub struct RollingBemArgs {
     /// Steps from there (default 100; never beyond the path's end).
     #[arg(long, default_value_t = 100)]
     pub steps: usize,
+    /// Welch segment of both runs' spectra, in samples (default: the
+    /// scenario's `[rolling] segment`, else half the signal).
+    #[arg(long)]
+    pub segment: Option<usize>,
     /// Threads of both runs (0: every core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -52,6 +56,7 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         Stretch {
             start: args.from,
             steps: Some(args.steps),
+            segment: args.segment,
         },
         Par::rayon(args.threads),
         &options,
@@ -201,11 +206,8 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
         .collect();
     set.write_csv("rolling_bem_steps.csv", &steps)?;
     let sensors = &run.multipoint.config.sensors;
-    let summit = tyreroad::bem_rolling::summit_sensor_forces(
-        mp,
-        &run.multipoint.road_positions,
-        sensors,
-    );
+    let summit =
+        tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);
     let mut rows = Vec::new();
     for (k, s) in sensors.iter().enumerate() {
         for (i, (m, b)) in mp.steps.iter().zip(&run.bem.steps).enumerate() {
@@ -221,10 +223,17 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     set.write_csv("rolling_bem_sensors.csv", &rows)?;
     let c = &run.comparison;
     let mut bands = Vec::new();
-    let labelled = [("total", "fields", &c.total), ("approach", "fields", &c.approach)]
-        .into_iter()
-        .chain(c.sensors.iter().map(|s| (s.name.as_str(), "fields", s)))
-        .chain(c.sensors_summit.iter().map(|s| (s.name.as_str(), "summits", s)));
+    let labelled = [
+        ("total", "fields", &c.total),
+        ("approach", "fields", &c.approach),
+    ]
+    .into_iter()
+    .chain(c.sensors.iter().map(|s| (s.name.as_str(), "fields", s)))
+    .chain(
+        c.sensors_summit
+            .iter()
+            .map(|s| (s.name.as_str(), "summits", s)),
+    );
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {
             signal,
