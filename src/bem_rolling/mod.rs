@@ -6,7 +6,7 @@
 //! # The contact at one step
 //!
 //! The road is a height map `h(x, y)` on a regular grid (a core
-//! [`Field`](crate::shared::Field) whose grid origin places it in the road
+//! [`Field`] whose grid origin places it in the road
 //! frame of the multipoint run: x along the path, y across). At footprint
 //! centre `(x_c, y_c)` the tread's undeformed surface lies `s(ξ, η)` above
 //! its lowest point ([`Tread::profile`](crate::rolling::Tread::profile),
@@ -19,7 +19,7 @@
 //!
 //! over the window of cells whose centres lie in the multipoint run's
 //! selection window (`|ξ| ≤ L/2 + m`, `|η| ≤ W/2 + m`). The window has the
-//! same number of cells at every step, so one [`Solver`](crate::bem::Solver)
+//! same number of cells at every step, so one [`Solver`]
 //! (one kernel spectrum) serves the whole run.
 //!
 //! Approach: as in the rolling crate, `δ0` is the approach of the tread's
