@@ -121,6 +121,17 @@ fn rolling_bem_matches_the_multipoint_model_on_widely_spaced_spheres() {
             assert!(diff < 0.005 * 3.0, "step {} sensor {k}: {diff} N", m.index);
         }
     }
+    // The comparison says the same: per-step errors as measured above,
+    // relative to the mean approach and to each sensor's peak.
+    let c = compare(&model, &positions, &config.sensors, &bem, 1.0, Some(8)).expect("compare");
+    assert_eq!(c.steps, steps);
+    assert!(c.total.max_error < 1e-9 && c.total.bands.is_empty());
+    assert!(c.approach.max_error < 0.005, "{}", c.approach.max_error);
+    assert!(
+        c.sensors.iter().all(|s| s.max_error < 0.01),
+        "{:?}",
+        c.sensors
+    );
     // The sphere under the first sensor is unloaded as the tyre moves on.
     let s0 = bem.sensor(0);
     assert!(s0[0] > 2.0 * s0[steps - 1], "{s0:?}");
