@@ -6,12 +6,15 @@
 //!   scenario has a `[rolling]` section;
 //! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
 //!   pressure-film scan analysed print by print;
-//! - `texture info FILE` / `texture synth ...`: road texture files.
+//! - `texture info FILE` / `texture synth ...`: road texture files;
+//! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
+//!   texture against the full-BEM rolling reference.
 
 mod bem_validation;
 mod charts;
 mod film_cmd;
 mod pressure_image;
+mod rolling_bem_cmd;
 mod rolling_cmd;
 mod statics;
 mod texture_cmd;
@@ -65,6 +68,9 @@ enum Command {
         #[command(subcommand)]
         cmd: texture_cmd::TextureCommand,
     },
+    /// Roll a texture scenario by the multipoint model and by the full BEM
+    /// over the same steps; print and write the comparison.
+    RollingBem(Box<rolling_bem_cmd::RollingBemArgs>),
 }
 
 fn main() -> Result<()> {
@@ -73,6 +79,7 @@ fn main() -> Result<()> {
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Torture { kind } => torture::run(kind.as_deref()),
+        Command::RollingBem(args) => rolling_bem_cmd::run(&args),
         Command::Run {
             scenario,
             out,

@@ -1,0 +1,332 @@
+//! The multipoint rolling run against the BEM reference, step by step and
+//! band by band.
+
+use crate::rolling::{self, BandLevel, RollingResult, Sensor};
+
+use super::{BemRollingError, BemRollingResult};
+
+/// Band range of the spectral targets (nominal centres, Hz).
+pub const BAND_RANGE: [f64; 2] = [100.0, 2000.0];
+
+/// One one-third-octave band of a signal, model against reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BandComparison {
+    /// Nominal centre (Hz).
+    pub nominal: f64,
+    /// Model level (dB).
+    pub model_db: f64,
+    /// Reference (BEM) level (dB).
+    pub reference_db: f64,
+    /// `model − reference` (dB; 0 when both are silent).
+    pub difference_db: f64,
+    /// Whether the Welch segment resolves the band (two bins or more in
+    /// its width); unresolved bands hold their neighbours' leakage.
+    pub resolved: bool,
+}
+
+/// One signal of the model against the same signal of the reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SignalComparison {
+    /// Signal name ("total", "approach", a sensor's name).
+    pub name: String,
+    /// What the per-step errors are relative to: the reference's value at
+    /// each step (`total`), its mean magnitude (`approach`) or its peak
+    /// over the run (sensors).
+    pub scale: f64,
+    /// Largest per-step `|model − reference| / scale` over steps where
+    /// both have values.
+    pub max_error: f64,
+    /// Root-mean-square of the same.
+    pub rms_error: f64,
+    /// Bands with centres from 100 Hz to 2 kHz (none for a signal that
+    /// both runs hold constant, such as the total force under load
+    /// control).
+    pub bands: Vec<BandComparison>,
+}
+
+impl SignalComparison {
+    /// Largest `|Δ dB|` over the bands 100 Hz … 2 kHz (resolved or not).
+    pub fn max_band_db(&self) -> f64 {
+        self.bands
+            .iter()
+            .map(|b| b.difference_db.abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Largest `|Δ dB|` over the resolved bands 100 Hz … 2 kHz (0 when
+    /// none is resolved).
+    pub fn max_resolved_band_db(&self) -> f64 {
+        self.bands
+            .iter()
+            .filter(|b| b.resolved)
+            .map(|b| b.difference_db.abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// The whole comparison of one stretch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RollingComparison {
+    /// Steps compared.
+    pub steps: usize,
+    /// Total force, error relative to the BEM's total at each step (0 by
+    /// construction under load control).
+    pub total: SignalComparison,
+    /// Approach `δ0`, error relative to the BEM's mean approach; levels in
+    /// dB re 1 µm.
+    pub approach: SignalComparison,
+    /// Each sensor, the model's forces as fields (each contact's pressure
+    /// profile over its patch, `Sensor::share`), error relative to the
+    /// BEM sensor's peak.
+    pub sensors: Vec<SignalComparison>,
+    /// Each sensor with the model's forces as points at the summits (the
+    /// whole force of a contact to the sensor holding its summit), for the
+    /// measure of what the fields bring.
+    pub sensors_summit: Vec<SignalComparison>,
+    /// Lowest band centre the Welch segment resolves (Hz).
+    pub resolved_from: f64,
+}
+
+/// One-third-octave levels under the rolling runs' policy: failed samples
+/// (NaN) bridged by linear interpolation ([`rolling::interpolate_failed`]),
+/// the core's Welch PSD with `segment` samples (default: the core's
+/// [`rolling::default_segment_len`]), levels re `reference`.
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] for a signal too short for the
+/// segment or a non-positive reference.
+pub fn third_octave_policy(
+    signal: &[f64],
+    sample_rate: f64,
+    reference: f64,
+    segment: Option<usize>,
+) -> Result<Vec<BandLevel>, BemRollingError> {
+    let (signal, _) = rolling::interpolate_failed(signal);
+    rolling::third_octave(&signal, sample_rate, reference, segment)
+        .map_err(|e| BemRollingError::InvalidInput(format!("one-third-octave spectrum: {e}")))
+}
+
+/// Sensor forces with each contact's whole force at its summit: per sensor,
+/// per step, the sum of the contact forces whose summit lies in the
+/// half-open rectangle `[x0, x1) × [y0, y1)` (as `Sensor::share` counts a
+/// zero-radius contact). `positions` are the road's summits by id.
+pub fn summit_sensor_forces(
+    result: &RollingResult,
+    positions: &[[f64; 2]],
+    sensors: &[Sensor],
+) -> Vec<Vec<f64>> {
+    sensors
+        .iter()
+        .map(|s| {
+            result
+                .steps
+                .iter()
+                .map(|step| {
+                    if step.status == rolling::StepStatus::Failed {
+                        return f64::NAN;
+                    }
+                    step.contact_ids
+                        .iter()
+                        .zip(&step.contact_forces)
+                        .filter(|&(&id, _)| {
+                            let [x, y] = positions[id];
+                            s.x[0] <= x && x < s.x[1] && s.y[0] <= y && y < s.y[1]
+                        })
+                        .map(|(_, &p)| p)
+                        .sum()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// How per-step errors are scaled.
+#[derive(Clone, Copy)]
+enum Scale {
+    /// By the reference's value at each step.
+    PerStep,
+    /// By the reference's mean magnitude.
+    Mean,
+    /// By the reference's peak magnitude.
+    Peak,
+}
+
+/// A signal's one-third-octave levels.
+type Spectrum<'a> = &'a dyn Fn(&[f64]) -> Result<Vec<BandLevel>, BemRollingError>;
+
+/// Whether the finite samples of `x` agree to 1e-9 of their magnitude.
+fn is_constant(x: &[f64]) -> bool {
+    let finite = || x.iter().copied().filter(|v| v.is_finite());
+    let (lo, hi) = (
+        finite().fold(f64::INFINITY, f64::min),
+        finite().fold(f64::NEG_INFINITY, f64::max),
+    );
+    hi - lo <= 1e-9 * lo.abs().max(hi.abs())
+}
+
+/// Compares `model` and `reference` signals of one quantity.
+fn signal(
+    name: &str,
+    model: &[f64],
+    reference: &[f64],
+    scale: Scale,
+    spectrum: Spectrum<'_>,
+    resolved_from: f64,
+) -> Result<SignalComparison, BemRollingError> {
+    let pairs: Vec<(f64, f64)> = model
+        .iter()
+        .zip(reference)
+        .filter(|(m, r)| m.is_finite() && r.is_finite())
+        .map(|(&m, &r)| (m, r))
+        .collect();
+    let magnitudes = pairs.iter().map(|&(_, r)| r.abs());
+    let global = match scale {
+        Scale::PerStep => f64::NAN,
+        Scale::Mean => magnitudes.sum::<f64>() / pairs.len().max(1) as f64,
+        Scale::Peak => magnitudes.fold(0.0, f64::max),
+    };
+    let errors: Vec<f64> = pairs
+        .iter()
+        .map(|&(m, r)| {
+            let s = if matches!(scale, Scale::PerStep) {
+                r.abs()
+            } else {
+                global
+            };
+            if s > 0.0 {
+                (m - r).abs() / s
+            } else if m == r {
+                0.0
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
+    let max_error = errors.iter().copied().fold(0.0, f64::max);
+    let rms_error = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt();
+    // A signal held constant (the total force under load control) has
+    // only rounding noise in its bands: nothing to compare.
+    if is_constant(model) && is_constant(reference) {
+        return Ok(SignalComparison {
+            name: name.into(),
+            scale: global,
+            max_error,
+            rms_error,
+            bands: Vec::new(),
+        });
+    }
+    let (lm, lr) = (spectrum(model)?, spectrum(reference)?);
+    let bands = lm
+        .iter()
+        .zip(&lr)
+        .filter(|(m, _)| (BAND_RANGE[0]..=BAND_RANGE[1]).contains(&m.band.nominal))
+        .map(|(m, r)| BandComparison {
+            nominal: m.band.nominal,
+            model_db: m.level_db,
+            reference_db: r.level_db,
+            difference_db: if m.level_db == r.level_db {
+                0.0
+            } else {
+                m.level_db - r.level_db
+            },
+            resolved: m.band.centre >= resolved_from,
+        })
+        .collect();
+    Ok(SignalComparison {
+        name: name.into(),
+        scale: global,
+        max_error,
+        rms_error,
+        bands,
+    })
+}
+
+/// Compares the multipoint run `model` (its sensors `sensors`, the road's
+/// summits `positions` by id) with the BEM reference `reference` over the
+/// same path: per-step errors and band levels (forces in dB re
+/// `reference_force`, the approach in dB re 1 µm; Welch segment `segment`
+/// or the core's default).
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] when the runs differ in steps or
+/// sensors, or a spectrum cannot be computed.
+pub fn compare(
+    model: &RollingResult,
+    positions: &[[f64; 2]],
+    sensors: &[Sensor],
+    reference: &BemRollingResult,
+    reference_force: f64,
+    segment: Option<usize>,
+) -> Result<RollingComparison, BemRollingError> {
+    let n = model.steps.len();
+    if n != reference.steps.len() || model.sample_rate != reference.sample_rate {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the runs differ: {n} steps at {} Hz against {} steps at {} Hz",
+            model.sample_rate,
+            reference.steps.len(),
+            reference.sample_rate
+        )));
+    }
+    if let Some(s) = reference
+        .steps
+        .iter()
+        .find(|s| s.sensor_forces.len() != sensors.len())
+    {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the BEM run has {} sensors, the model {}",
+            s.sensor_forces.len(),
+            sensors.len()
+        )));
+    }
+    let fs = model.sample_rate;
+    let segment_len = segment.unwrap_or_else(|| rolling::default_segment_len(n));
+    let resolved_from = 2.0 * fs / segment_len as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
+    let forces = |x: &[f64]| third_octave_policy(x, fs, reference_force, segment);
+    let microns = |x: &[f64]| third_octave_policy(x, fs, 1e-6, segment);
+    let total = signal(
+        "total",
+        &model.total_force(),
+        &reference.total_force(),
+        Scale::PerStep,
+        &forces,
+        resolved_from,
+    )?;
+    let approach = signal(
+        "approach",
+        &model.approach(),
+        &reference.approach(),
+        Scale::Mean,
+        &microns,
+        resolved_from,
+    )?;
+    let summit = summit_sensor_forces(model, positions, sensors);
+    let mut fields = Vec::with_capacity(sensors.len());
+    let mut points = Vec::with_capacity(sensors.len());
+    for (k, s) in sensors.iter().enumerate() {
+        let r = reference.sensor(k);
+        fields.push(signal(
+            &s.name,
+            &model.sensor(k),
+            &r,
+            Scale::Peak,
+            &forces,
+            resolved_from,
+        )?);
+        points.push(signal(
+            &s.name,
+            &summit[k],
+            &r,
+            Scale::Peak,
+            &forces,
+            resolved_from,
+        )?);
+    }
+    Ok(RollingComparison {
+        steps: n,
+        total,
+        approach,
+        sensors: fields,
+        sensors_summit: points,
+        resolved_from,
+    })
+}

@@ -1,0 +1,165 @@
+//! A rolling scenario on a texture run twice over the same stretch: by the
+//! multipoint model (the scenario's own run) and by the BEM reference.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use crate::rolling::RollingConfig;
+use crate::scenario::units::Length;
+use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult};
+use crate::shared::{Field, Par};
+use crate::texture::HeightMap;
+
+use super::{
+    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare, roll_bem,
+};
+
+/// Both runs of one stretch and their comparison.
+#[derive(Debug)]
+pub struct BemRollingRun {
+    /// The multipoint run (the scenario's, cut to the stretch).
+    pub multipoint: RollingRun,
+    /// The BEM reference on the same path.
+    pub bem: BemRollingResult,
+    /// Step-by-step and band-by-band comparison.
+    pub comparison: RollingComparison,
+    /// Wall time of the multipoint run (segmentation and laws included).
+    pub multipoint_time: Duration,
+    /// Wall time of the BEM run.
+    pub bem_time: Duration,
+    /// Texture cells `(nx, ny)` and spacing (m) of the road.
+    pub road_grid: (usize, usize, f64),
+}
+
+/// The texture's height map in the road frame of a scenario's rolling run:
+/// cell `(i, j)` at `(i dx, j dy − y_mid)`, as the scenario centres the
+/// texture's y on the path (`y_mid` the map's middle row).
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] for a map with unmeasured points (the
+/// BEM needs a complete surface).
+pub fn texture_field(map: &HeightMap) -> Result<Field, BemRollingError> {
+    let field = map.field();
+    if field.valid_count() != field.grid().len() {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the texture has {} unmeasured points: the BEM reference needs a complete map",
+            field.grid().len() - field.valid_count()
+        )));
+    }
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let grid = field
+        .grid()
+        .clone()
+        .with_origin([0.0, -y_mid])
+        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+    Field::new(grid, field.values().to_vec())
+        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))
+}
+
+/// The stretch of a scenario's path to compare: from `start` (m; default
+/// the path's start) for `steps` steps (default: to the path's end; never
+/// beyond it).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stretch {
+    /// First footprint centre (m).
+    pub start: Option<f64>,
+    /// Steps.
+    pub steps: Option<usize>,
+    /// Welch segment (samples) of the spectra of both runs, instead of the
+    /// scenario's `[rolling] segment` (or the core's default, half the
+    /// signal).
+    pub segment: Option<usize>,
+}
+
+/// Runs `scenario` (a `[rolling]` run on a `[texture]`) over `stretch` by
+/// the multipoint model and by the BEM reference, and compares them. `base_dir` resolves a texture file; `par`
+/// is the parallelism of both runs. No checkpoint is read or written.
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] when the scenario has no `[rolling]`
+/// or no `[texture]`, or the stretch is empty or off the path; [`BemRollingError::Scenario`] when
+/// the multipoint run fails; the errors of [`roll_bem`] and [`compare`].
+pub fn run_scenario_comparison(
+    mut scenario: Scenario,
+    base_dir: &Path,
+    stretch: Stretch,
+    par: Par,
+    options: &BemRollingOptions,
+) -> Result<BemRollingRun, BemRollingError> {
+    let Some(texture) = scenario.texture.as_ref() else {
+        return Err(BemRollingError::InvalidInput(
+            "the BEM rolling reference needs a scenario with a [texture]".into(),
+        ));
+    };
+    let map = texture.height_map(base_dir)?;
+    let Some(spec) = scenario.rolling.as_mut() else {
+        return Err(BemRollingError::InvalidInput(
+            "the scenario has no [rolling] section".into(),
+        ));
+    };
+    let (path_start, path_end, step) = (spec.start.value(), spec.end.value(), spec.step.value());
+    let start = stretch.start.unwrap_or(path_start);
+    if !(start >= path_start && start <= path_end) {
+        return Err(BemRollingError::InvalidInput(format!(
+            "stretch start {start} m: must lie on the path, from {path_start} m to {path_end} m"
+        )));
+    }
+    if stretch.steps == Some(0) {
+        return Err(BemRollingError::InvalidInput(
+            "steps must be >= 1, got 0".into(),
+        ));
+    }
+    let end = stretch
+        .steps
+        .map_or(path_end, |n| (start + (n - 1) as f64 * step).min(path_end));
+    spec.start = Length::si(start);
+    spec.end = Length::si(end);
+    spec.checkpoint = false;
+    if stretch.segment.is_some() {
+        spec.segment = stretch.segment;
+    }
+    let (segment, reference_force) = (
+        spec.segment,
+        spec.reference_force.map_or(1.0, |f| f.value()),
+    );
+    let run_options = RunOptions {
+        par: Some(par),
+        ..RunOptions::new(base_dir)
+    };
+    let clock = Instant::now();
+    let ScenarioResult::Rolling(multipoint) = scenario.run(&run_options)? else {
+        return Err(BemRollingError::InvalidInput(
+            "the scenario did not run as a rolling run".into(),
+        ));
+    };
+    let multipoint_time = clock.elapsed();
+    let config: &RollingConfig = &multipoint.config;
+    let road = texture_field(&map)?;
+    let clock = Instant::now();
+    let bem = roll_bem(
+        &road,
+        scenario.material()?,
+        config,
+        &BemRollingOptions {
+            par,
+            ..options.clone()
+        },
+    )?;
+    let bem_time = clock.elapsed();
+    let comparison = compare(
+        &multipoint.result,
+        &multipoint.road_positions,
+        &config.sensors,
+        &bem,
+        reference_force,
+        segment,
+    )?;
+    Ok(BemRollingRun {
+        multipoint: *multipoint,
+        bem,
+        comparison,
+        multipoint_time,
+        bem_time,
+        road_grid: (map.nx(), map.ny(), map.dx()),
+    })
+}

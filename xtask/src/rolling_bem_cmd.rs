@@ -1,0 +1,317 @@
+//! `cargo xtask rolling-bem SCENARIO --out DIR [--steps N]`: a rolling
+//! scenario on a texture run over the same stretch by the multipoint model
+//! and by the full-BEM reference (`tyreroad::bem_rolling`); prints the
+//! comparison table and writes the signals, the band levels and the charts.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use serde::Serialize;
+use tyreroad::bem_rolling::{
+    BemRollingOptions, BemRollingRun, SignalComparison, Stretch, run_scenario_comparison,
+};
+use tyreroad::scenario::output::{OutputSet, fmt};
+use tyreroad::scenario::{Par, Scenario};
+
+use crate::charts::{Series, line_chart};
+
+/// Arguments of `rolling-bem`.
+#[derive(clap::Args)]
+pub struct RollingBemArgs {
+    /// A `[rolling]` scenario on a `[texture]`.
+    pub scenario: PathBuf,
+    /// Output directory.
+    #[arg(long, default_value = "validation/rolling_bem")]
+    pub out: PathBuf,
+    /// First footprint centre, in metres (default: the path's start).
+    #[arg(long)]
+    pub from: Option<f64>,
+    /// Steps from there (default 100; never beyond the path's end).
+    #[arg(long, default_value_t = 100)]
+    pub steps: usize,
+    /// Welch segment of both runs' spectra, in samples (default: the
+    /// scenario's `[rolling] segment`, else half the signal).
+    #[arg(long)]
+    pub segment: Option<usize>,
+    /// Threads of both runs (0: every core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Relative tolerance of each BEM step.
+    #[arg(long, default_value_t = 1e-7)]
+    pub tolerance: f64,
+}
+
+/// Runs both models, prints the table, writes the files.
+pub fn run(args: &RollingBemArgs) -> Result<()> {
+    let scenario = Scenario::from_path(&args.scenario)?;
+    let name = scenario.name.clone();
+    let base = args.scenario.parent().unwrap_or(Path::new("."));
+    let options = BemRollingOptions {
+        tolerance: args.tolerance,
+        ..BemRollingOptions::default()
+    };
+    let run = run_scenario_comparison(
+        scenario,
+        base,
+        Stretch {
+            start: args.from,
+            steps: Some(args.steps),
+            segment: args.segment,
+        },
+        Par::rayon(args.threads),
+        &options,
+    )?;
+    print_report(&name, &run);
+    let mut set = OutputSet::new(&args.out)?;
+    write_outputs(&run, &mut set)?;
+    for path in set.commit()? {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn print_report(name: &str, run: &BemRollingRun) {
+    let c = &run.comparison;
+    let (nx, ny, dx) = run.road_grid;
+    println!(
+        "{name}: {} steps; texture {nx} × {ny} at {:.3} mm; BEM window {} × {} cells",
+        c.steps,
+        dx * 1e3,
+        run.bem.window.0,
+        run.bem.window.1
+    );
+    println!(
+        "time: multipoint {:.1} s, BEM {:.1} s ({} CG iterations, {} failed steps); multipoint failed steps: {}",
+        run.multipoint_time.as_secs_f64(),
+        run.bem_time.as_secs_f64(),
+        run.bem.iterations(),
+        run.bem.failed(),
+        run.multipoint.status_counts()[2]
+    );
+    println!(
+        "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
+        c.resolved_from
+    );
+    println!(
+        "{:<22} {:>12} {:>12} {:>14} {:>14}",
+        "signal", "max err %", "rms err %", "max |ΔdB| all", "max |ΔdB| res."
+    );
+    let row = |label: &str, s: &SignalComparison| {
+        println!(
+            "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
+            label,
+            100.0 * s.max_error,
+            100.0 * s.rms_error,
+            s.max_band_db(),
+            s.max_resolved_band_db()
+        );
+    };
+    row("total force", &c.total);
+    row("approach", &c.approach);
+    for s in &c.sensors {
+        row(&format!("{} (fields)", s.name), s);
+    }
+    for s in &c.sensors_summit {
+        row(&format!("{} (summits)", s.name), s);
+    }
+    println!("band levels (dB), model fields / model summits / BEM:");
+    for (k, s) in c.sensors.iter().enumerate() {
+        let summit = &c.sensors_summit[k];
+        let cells: Vec<String> = s
+            .bands
+            .iter()
+            .zip(&summit.bands)
+            .map(|(b, p)| {
+                format!(
+                    "{}{:.0}: {:.1}/{:.1}/{:.1}",
+                    if b.resolved { "" } else { "*" },
+                    b.nominal,
+                    b.model_db,
+                    p.model_db,
+                    b.reference_db
+                )
+            })
+            .collect();
+        println!("  {}: {}", s.name, cells.join("  "));
+    }
+}
+
+/// One step of both runs.
+#[derive(Serialize)]
+struct StepRow {
+    step: usize,
+    #[serde(serialize_with = "fmt::sci9")]
+    time_s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    position_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_model_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_bem_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_model_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_bem_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_model_m2: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_bem_m2: f64,
+}
+
+/// One sensor at one step.
+#[derive(Serialize)]
+struct SensorRow<'a> {
+    step: usize,
+    sensor: &'a str,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_fields_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_summits_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    bem_n: f64,
+}
+
+/// One band of one signal.
+#[derive(Serialize)]
+struct BandRow<'a> {
+    signal: &'a str,
+    accounting: &'a str,
+    band_nominal_hz: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    model_db: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    bem_db: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    difference_db: f64,
+    resolved: bool,
+}
+
+fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
+    let mp = &run.multipoint.result;
+    let steps: Vec<StepRow> = mp
+        .steps
+        .iter()
+        .zip(&run.bem.steps)
+        .map(|(m, b)| StepRow {
+            step: m.index,
+            time_s: m.time,
+            position_m: m.position,
+            total_force_model_n: m.total_force,
+            total_force_bem_n: b.total_force,
+            approach_model_m: m.approach,
+            approach_bem_m: b.approach,
+            contact_area_model_m2: m.contact_area,
+            contact_area_bem_m2: b.contact_area,
+        })
+        .collect();
+    set.write_csv("rolling_bem_steps.csv", &steps)?;
+    let sensors = &run.multipoint.config.sensors;
+    let summit =
+        tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);
+    let mut rows = Vec::new();
+    for (k, s) in sensors.iter().enumerate() {
+        for (i, (m, b)) in mp.steps.iter().zip(&run.bem.steps).enumerate() {
+            rows.push(SensorRow {
+                step: m.index,
+                sensor: &s.name,
+                model_fields_n: m.sensor_forces[k],
+                model_summits_n: summit[k][i],
+                bem_n: b.sensor_forces[k],
+            });
+        }
+    }
+    set.write_csv("rolling_bem_sensors.csv", &rows)?;
+    let c = &run.comparison;
+    let mut bands = Vec::new();
+    let labelled = [
+        ("total", "fields", &c.total),
+        ("approach", "fields", &c.approach),
+    ]
+    .into_iter()
+    .chain(c.sensors.iter().map(|s| (s.name.as_str(), "fields", s)))
+    .chain(
+        c.sensors_summit
+            .iter()
+            .map(|s| (s.name.as_str(), "summits", s)),
+    );
+    for (signal, accounting, s) in labelled {
+        bands.extend(s.bands.iter().map(|b| BandRow {
+            signal,
+            accounting,
+            band_nominal_hz: b.nominal,
+            model_db: b.model_db,
+            bem_db: b.reference_db,
+            difference_db: b.difference_db,
+            resolved: b.resolved,
+        }));
+    }
+    set.write_csv("rolling_bem_bands.csv", &bands)?;
+    charts(run, &summit, set)
+}
+
+/// The sensors' forces per step and their band levels, model (fields and
+/// summits) and BEM on one chart each.
+fn charts(run: &BemRollingRun, summit: &[Vec<f64>], set: &mut OutputSet) -> Result<()> {
+    let mp = &run.multipoint.result;
+    let mut signals = Vec::new();
+    let mut levels = Vec::new();
+    for (k, s) in run.multipoint.config.sensors.iter().enumerate() {
+        let pts = |v: &mut dyn Iterator<Item = f64>| -> Vec<(f64, f64)> {
+            v.enumerate()
+                .filter(|(_, y)| y.is_finite())
+                .map(|(i, y)| (i as f64, y))
+                .collect()
+        };
+        signals.push(Series {
+            label: format!("{} multipoint", s.name),
+            points: pts(&mut mp.steps.iter().map(|st| st.sensor_forces[k])),
+        });
+        signals.push(Series {
+            label: format!("{} multipoint (summits)", s.name),
+            points: pts(&mut summit[k].iter().copied()),
+        });
+        signals.push(Series {
+            label: format!("{} BEM", s.name),
+            points: pts(&mut run.bem.steps.iter().map(|st| st.sensor_forces[k])),
+        });
+        let c = &run.comparison.sensors[k];
+        let band_x = |nominal: f64| (10.0 * (nominal / 1000.0).log10()).round();
+        let finite = |f: &dyn Fn(&tyreroad::bem_rolling::BandComparison) -> f64| {
+            c.bands
+                .iter()
+                .filter(|b| f(b).is_finite())
+                .map(|b| (band_x(b.nominal), f(b)))
+                .collect::<Vec<_>>()
+        };
+        levels.push(Series {
+            label: format!("{} multipoint", s.name),
+            points: finite(&|b| b.model_db),
+        });
+        levels.push(Series {
+            label: format!("{} BEM", s.name),
+            points: finite(&|b| b.reference_db),
+        });
+    }
+    if signals.iter().all(|s| s.points.is_empty()) {
+        return Ok(());
+    }
+    line_chart(
+        set,
+        "rolling_bem_sensors",
+        "Sensor forces: multipoint against the full BEM",
+        "step",
+        "force (N)",
+        &signals,
+    )?;
+    if levels.iter().any(|s| !s.points.is_empty()) {
+        line_chart(
+            set,
+            "rolling_bem_bands",
+            "Sensor one-third-octave levels, 100 Hz to 2 kHz",
+            "band k (centre 1 kHz · 10^(k/10))",
+            "level (dB re reference force)",
+            &levels,
+        )?;
+    }
+    Ok(())
+}
