@@ -77,8 +77,12 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
                 "tyreroad-film",
             ],
         ),
-        // The runner reaches the model through the facade only.
-        ("xtask", &["tyreroad"]),
+        // Above the facade: MPI rolling and sweeps run scenarios
+        // (docs/distributed.md); the rolling crate for its records.
+        ("tyreroad-distributed", &["tyreroad", "tyreroad-rolling"]),
+        // The runner reaches the model through the facade, and runs
+        // sweeps and MPI jobs through the distributed layer above it.
+        ("xtask", &["tyreroad", "tyreroad-distributed"]),
     ];
     layers
         .into_iter()

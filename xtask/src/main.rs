@@ -6,7 +6,9 @@
 //!   scenario has a `[rolling]` section;
 //! - `film SCAN --calibration ... --layout ... [--model CSV] [--out DIR]`: a
 //!   pressure-film scan analysed print by print;
-//! - `texture info FILE` / `texture synth ...`: road texture files.
+//! - `texture info FILE` / `texture synth ...`: road texture files;
+//! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
+//!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 
 mod bem_validation;
 mod charts;
@@ -14,6 +16,7 @@ mod film_cmd;
 mod pressure_image;
 mod rolling_cmd;
 mod statics;
+mod sweep_cmd;
 mod texture_cmd;
 mod texture_static;
 mod texture_synth;
@@ -65,6 +68,11 @@ enum Command {
         #[command(subcommand)]
         cmd: texture_cmd::TextureCommand,
     },
+    /// Run a parameter sweep (rayon, or MPI ranks with --mpi): one table row per run.
+    Sweep(sweep_cmd::SweepArgs),
+    /// Roll a scenario over MPI ranks (start with mpirun); rank 0 writes.
+    #[cfg(feature = "mpi")]
+    MpiRun(sweep_cmd::MpiRunArgs),
 }
 
 fn main() -> Result<()> {
@@ -73,6 +81,9 @@ fn main() -> Result<()> {
         Command::Film(args) => film_cmd::run(&args),
         Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Torture { kind } => torture::run(kind.as_deref()),
+        Command::Sweep(args) => sweep_cmd::run(&args),
+        #[cfg(feature = "mpi")]
+        Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {
             scenario,
             out,

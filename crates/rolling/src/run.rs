@@ -435,7 +435,8 @@ mod tests {
         for warmup in [0, 3] {
             let mut joined = Vec::new();
             for (a, b) in [(0, 7), (7, 8), (8, n)] {
-                let part = roll_range(&road, rubber, &config, a..b, warmup, &RunOptions::default())?;
+                let part =
+                    roll_range(&road, rubber, &config, a..b, warmup, &RunOptions::default())?;
                 assert_eq!(part.steps.len(), b - a);
                 joined.extend(part.steps);
             }

@@ -75,11 +75,13 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
     }
     let (len, prefix) = if lead[6] == 1 {
         let mut n = [0u8; 2];
-        file.read_exact(&mut n).map_err(|_| bad("truncated header"))?;
+        file.read_exact(&mut n)
+            .map_err(|_| bad("truncated header"))?;
         (usize::from(u16::from_le_bytes(n)), 10)
     } else {
         let mut n = [0u8; 4];
-        file.read_exact(&mut n).map_err(|_| bad("truncated header"))?;
+        file.read_exact(&mut n)
+            .map_err(|_| bad("truncated header"))?;
         let n = u32::from_le_bytes(n) as usize;
         if n > 1 << 20 {
             return Err(bad("header longer than 1 MiB"));
@@ -244,7 +246,13 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let (nx, ny) = (13usize, 5usize);
         let values: Vec<f64> = (0..nx * ny)
-            .map(|k| if k == 17 { f64::NAN } else { (k as f64 * 0.37).sin() * 1e-3 })
+            .map(|k| {
+                if k == 17 {
+                    f64::NAN
+                } else {
+                    (k as f64 * 0.37).sin() * 1e-3
+                }
+            })
             .collect();
         for order in [npyz::Order::C, npyz::Order::Fortran] {
             let path = dir.join("h.npy");
@@ -272,7 +280,10 @@ mod tests {
             let data32: Vec<f32> = data.iter().map(|&v| v as f32).collect();
             write_npy(&path32, &[ny as u64, nx as u64], &data32, order);
             let win = read_npy_window(&path32, 1e-4, 1e-4, 3..6).unwrap();
-            assert_eq!(win.map.get(1, 2), Some(f64::from(values[2 * nx + 4] as f32)));
+            assert_eq!(
+                win.map.get(1, 2),
+                Some(f64::from(values[2 * nx + 4] as f32))
+            );
         }
         std::fs::write(dir.join("bad.npy"), b"not numpy at all").unwrap();
         assert!(npy_layout(dir.join("bad.npy")).is_err());
