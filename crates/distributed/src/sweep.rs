@@ -16,7 +16,8 @@
 //! (`rolling.speed`), `tyre` (`rolling.tread`, a table), `material`
 //! (`material`, a table), `road` (`texture.file`, relative to the base
 //! scenario's directory); any other name is a dotted key of the scenario.
-//! Grid runs are numbered with the last parameter varying fastest.
+//! Parameters are taken in the order of their names (TOML tables are
+//! sorted); grid runs are numbered with the last one varying fastest.
 
 use std::path::{Path, PathBuf};
 
