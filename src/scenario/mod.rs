@@ -141,6 +141,70 @@ impl Scenario {
     /// Any [`ScenarioError`]: a missing section, an invalid material or
     /// shape, an unreadable texture, a failed solve or run.
     pub fn run(&self, options: &RunOptions<'_>) -> Result<ScenarioResult, ScenarioError> {
+        self.run_whole(options)
+    }
+
+    /// Rolls only the path's steps `steps` of the `[rolling]` section (one
+    /// rank's part of a distributed run, docs/distributed.md), each chunk
+    /// started `warmup` steps early ([`tyreroad_rolling::roll_range`]).
+    /// The records of the parts, concatenated in order, finish into the
+    /// run with [`Scenario::finish_rolling`].
+    ///
+    /// # Errors
+    /// No `[rolling]` section, or as [`Scenario::run`].
+    pub fn roll_part(
+        &self,
+        options: &RunOptions<'_>,
+        steps: std::ops::Range<usize>,
+        warmup: usize,
+    ) -> Result<tyreroad_rolling::RollingResult, ScenarioError> {
+        let spec = self.rolling_section()?;
+        match rolling::rolling_on_road(self, spec, options, rolling::What::Part { steps, warmup })?
+        {
+            rolling::Rolled::Part(part) => Ok(part),
+            rolling::Rolled::Run(_) => {
+                Err(ScenarioError::Invalid("a part gave a whole run".into()))
+            }
+        }
+    }
+
+    /// The run made of records rolled elsewhere (every step of the path,
+    /// in order): the road summary and the spectra as [`Scenario::run`]
+    /// gives them, so the same writers write the same files.
+    ///
+    /// # Errors
+    /// No `[rolling]` section, records that do not cover the path in order,
+    /// or a spectrum that cannot be computed.
+    pub fn finish_rolling(
+        &self,
+        options: &RunOptions<'_>,
+        result: tyreroad_rolling::RollingResult,
+    ) -> Result<RollingRun, ScenarioError> {
+        let spec = self.rolling_section()?;
+        match rolling::rolling_on_road(self, spec, options, rolling::What::Gathered(result))? {
+            rolling::Rolled::Run(run) => Ok(*run),
+            rolling::Rolled::Part(_) => {
+                Err(ScenarioError::Invalid("a whole run gave a part".into()))
+            }
+        }
+    }
+
+    /// Steps on the `[rolling]` path.
+    ///
+    /// # Errors
+    /// No `[rolling]` section or an invalid one.
+    pub fn rolling_steps(&self) -> Result<usize, ScenarioError> {
+        self.rolling_section()?;
+        Ok(self.rolling_config()?.steps())
+    }
+
+    fn rolling_section(&self) -> Result<&RollingSpec, ScenarioError> {
+        self.rolling
+            .as_ref()
+            .ok_or_else(|| ScenarioError::Invalid("the scenario has no [rolling] section".into()))
+    }
+
+    fn run_whole(&self, options: &RunOptions<'_>) -> Result<ScenarioResult, ScenarioError> {
         if let Some(spec) = &self.rolling {
             return rolling::run_rolling(self, spec, options)
                 .map(|r| ScenarioResult::Rolling(Box::new(r)));

@@ -102,12 +102,43 @@ impl RollingRun {
     }
 }
 
+/// What [`run_on`] does with the road: roll the whole path, roll a part of
+/// it (one rank of a distributed run), or take records rolled elsewhere
+/// (gathered from the ranks) and finish them into a run.
+pub(crate) enum What {
+    Whole,
+    Part {
+        steps: std::ops::Range<usize>,
+        warmup: usize,
+    },
+    Gathered(rolling::RollingResult),
+}
+
+/// What [`run_on`] gives back: a run, or a part's records.
+pub(crate) enum Rolled {
+    Run(Box<RollingRun>),
+    Part(rolling::RollingResult),
+}
+
 /// Runs `[rolling]` on the scenario's road.
 pub(crate) fn run_rolling(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
 ) -> Result<RollingRun, ScenarioError> {
+    match rolling_on_road(scenario, spec, options, What::Whole)? {
+        Rolled::Run(run) => Ok(*run),
+        Rolled::Part(_) => Err(ScenarioError::Invalid("a whole run gave a part".into())),
+    }
+}
+
+/// Builds the scenario's road and does `what` on it.
+pub(crate) fn rolling_on_road(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    what: What,
+) -> Result<Rolled, ScenarioError> {
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
         let (set, summary) = texture_road_set(texture, &options.base_dir, material)?;
@@ -118,6 +149,7 @@ pub(crate) fn run_rolling(
             material,
             spec,
             options,
+            what,
         );
     }
     match (scenario.asperities.is_empty(), &spec.synthetic_road) {
@@ -131,6 +163,7 @@ pub(crate) fn run_rolling(
                 material,
                 spec,
                 options,
+                what,
             )
         }
         (true, Some(synth)) => {
@@ -143,6 +176,7 @@ pub(crate) fn run_rolling(
                 material,
                 spec,
                 options,
+                what,
             )
         }
         (false, Some(_)) => Err(ScenarioError::Invalid(
@@ -161,9 +195,10 @@ fn run_on<L: ContactLaw + Sync>(
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
-) -> Result<RollingRun, ScenarioError> {
+    what: What,
+) -> Result<Rolled, ScenarioError> {
     let road = rolling::Road::new(set);
-    roll_road(scenario, &road, summary, material, spec, options)
+    roll_road(scenario, &road, summary, material, spec, options, what)
 }
 
 fn roll_road<L: ContactLaw + Sync>(
@@ -173,7 +208,8 @@ fn roll_road<L: ContactLaw + Sync>(
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
-) -> Result<RollingRun, ScenarioError> {
+    what: What,
+) -> Result<Rolled, ScenarioError> {
     let config = scenario.rolling_config()?;
     let checkpoint = options
         .checkpoint_dir
@@ -194,16 +230,33 @@ fn roll_road<L: ContactLaw + Sync>(
         progress: options.progress,
         par,
     };
-    let result = rolling::roll(road, material, &config, &run_options)?;
+    let result = match what {
+        What::Whole => rolling::roll(road, material, &config, &run_options)?,
+        What::Part { steps, warmup } => {
+            let part = rolling::roll_range(road, material, &config, steps, warmup, &run_options)?;
+            return Ok(Rolled::Part(part));
+        }
+        What::Gathered(result) => {
+            if result.steps.len() != config.steps()
+                || result.steps.iter().enumerate().any(|(k, s)| s.index != k)
+            {
+                return Err(ScenarioError::Invalid(format!(
+                    "gathered records do not cover the path's {} steps in order",
+                    config.steps()
+                )));
+            }
+            result
+        }
+    };
     let spectra = spectra(&config, spec, &result)?;
-    Ok(RollingRun {
+    Ok(Rolled::Run(Box::new(RollingRun {
         road: summary,
         road_positions: road.positions().to_vec(),
         road_heights: road.heights().to_vec(),
         config,
         result,
         spectra,
-    })
+    })))
 }
 
 fn spectra(

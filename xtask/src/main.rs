@@ -9,6 +9,8 @@
 //! - `texture info FILE` / `texture synth ...`: road texture files;
 //! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
 //!   texture against the full-BEM rolling reference.
+//! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
+//!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 
 mod bem_validation;
 mod charts;
@@ -17,6 +19,7 @@ mod pressure_image;
 mod rolling_bem_cmd;
 mod rolling_cmd;
 mod statics;
+mod sweep_cmd;
 mod texture_cmd;
 mod texture_static;
 mod texture_synth;
@@ -71,6 +74,11 @@ enum Command {
     /// Roll a texture scenario by the multipoint model and by the full BEM
     /// over the same steps; print and write the comparison.
     RollingBem(Box<rolling_bem_cmd::RollingBemArgs>),
+    /// Run a parameter sweep (rayon, or MPI ranks with --mpi): one table row per run.
+    Sweep(sweep_cmd::SweepArgs),
+    /// Roll a scenario over MPI ranks (start with mpirun); rank 0 writes.
+    #[cfg(feature = "mpi")]
+    MpiRun(sweep_cmd::MpiRunArgs),
 }
 
 fn main() -> Result<()> {
@@ -80,6 +88,9 @@ fn main() -> Result<()> {
         Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
+        Command::Sweep(args) => sweep_cmd::run(&args),
+        #[cfg(feature = "mpi")]
+        Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {
             scenario,
             out,

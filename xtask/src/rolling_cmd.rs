@@ -179,7 +179,7 @@ struct SensorRow {
     forces: Vec<f64>,
 }
 
-fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
+pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
     let (config, result, spectra) = (&run.config, &run.result, &run.spectra);
     set.write(
         "road.npz",

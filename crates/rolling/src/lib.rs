@@ -127,7 +127,7 @@ pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
 };
 pub use road::Road;
-pub use run::{Progress, ProgressFn, RunOptions, roll};
+pub use run::{Progress, ProgressFn, RunOptions, roll, roll_range};
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,

@@ -1,9 +1,10 @@
 //! Readers and writers: X3P, ASCII grid, xyz, Digital Surf `.sur`, NumPy
-//! `.npy`/`.npz` (read only).
+//! `.npy`/`.npz` (read only); [`window`]: a window of a large `.npy` map.
 
 pub mod npy;
 pub mod sur;
 pub mod text;
+pub mod window;
 pub mod x3p;
 
 use std::path::Path;

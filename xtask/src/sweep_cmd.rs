@@ -1,0 +1,147 @@
+//! `cargo xtask sweep SWEEP.toml`: every run of a sweep (docs/distributed.md)
+//! rolled and written (`OUT/run_NNNN/`, the files of `cargo xtask run`), and
+//! one table, `OUT/sweep.csv`, one row per run. With `--mpi` (an xtask built
+//! with `--features mpi`, started by `mpirun`) rank 0 hands the runs out to
+//! the other ranks; without, they run on a rayon pool. Both write the same
+//! table.
+//!
+//! `mpi-run SCENARIO.toml` (feature `mpi`): one rolling run split over the
+//! ranks; rank 0 writes the files `cargo xtask run` writes.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::Args;
+use tyreroad::scenario::output::OutputSet;
+use tyreroad::scenario::{Par, RunOptions, ScenarioResult};
+use tyreroad_distributed::sweep::{RunSummary, Sweep, SweepRow, SweepRun, run_local, table_csv};
+
+use crate::rolling_cmd::write_outputs;
+
+/// `cargo xtask sweep`'s arguments.
+#[derive(Args)]
+pub struct SweepArgs {
+    /// The sweep file (TOML).
+    pub sweep: PathBuf,
+    /// Output directory: `sweep.csv` and one `run_NNNN/` per run.
+    #[arg(long, default_value = "sweep")]
+    pub out: PathBuf,
+    /// Worker threads on one machine (0: every core); ignored with `--mpi`.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Distribute the runs over MPI ranks (needs `--features mpi`).
+    #[arg(long)]
+    pub mpi: bool,
+}
+
+/// One run, rolled on the calling thread and written to `out/run_NNNN`;
+/// its failure is its row's error.
+fn run_one(run: &SweepRun, base_dir: &Path, out: &Path) -> SweepRow {
+    let outcome = (|| -> Result<RunSummary> {
+        let scenario = run.parse()?;
+        let options = RunOptions {
+            base_dir: base_dir.to_path_buf(),
+            par: Some(Par::Seq),
+            progress: None,
+            checkpoint_dir: None,
+        };
+        let ScenarioResult::Rolling(rolled) = scenario.run(&options)? else {
+            anyhow::bail!("the scenario has no [rolling] section");
+        };
+        let mut set = OutputSet::new(out.join(format!("run_{:04}", run.index)))?;
+        write_outputs(&rolled, &mut set)?;
+        set.commit()?;
+        Ok(RunSummary::of(&rolled))
+    })();
+    SweepRow {
+        index: run.index,
+        params: run.params.clone(),
+        outcome: outcome.map_err(|e| format!("{e:#}")),
+    }
+}
+
+/// `cargo xtask sweep`.
+pub fn run(args: &SweepArgs) -> Result<()> {
+    let sweep = Sweep::from_path(&args.sweep)?;
+    let job = |run: &SweepRun| run_one(run, &sweep.base_dir, &args.out);
+    let rows = if args.mpi {
+        match mpi_rows(&sweep, &job)? {
+            Some(rows) => rows,
+            None => return Ok(()), // a worker rank: rank 0 writes
+        }
+    } else {
+        run_local(&sweep.runs, args.threads, job)?
+    };
+    write_table(&rows, &args.out)
+}
+
+fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
+    let mut set = OutputSet::new(out)?;
+    set.write("sweep.csv", table_csv(rows).as_bytes())?;
+    set.commit()?;
+    let failed = rows.iter().filter(|r| r.outcome.is_err()).count();
+    println!(
+        "sweep: {} runs ({failed} failed), table {}",
+        rows.len(),
+        out.join("sweep.csv").display()
+    );
+    for r in rows {
+        if let Err(e) = &r.outcome {
+            println!("  run {}: {e}", r.index);
+        }
+    }
+    Ok(())
+}
+
+#[cfg(feature = "mpi")]
+fn mpi_rows(
+    sweep: &Sweep,
+    job: &(dyn Fn(&SweepRun) -> SweepRow + Sync),
+) -> Result<Option<Vec<SweepRow>>> {
+    use tyreroad_distributed::mpi;
+    let universe = mpi::initialize().ok_or_else(|| anyhow::anyhow!("MPI already started"))?;
+    Ok(mpi::run_sweep(&universe.world(), &sweep.runs, job)?)
+}
+
+#[cfg(not(feature = "mpi"))]
+fn mpi_rows(
+    _: &Sweep,
+    _: &(dyn Fn(&SweepRun) -> SweepRow + Sync),
+) -> Result<Option<Vec<SweepRow>>> {
+    anyhow::bail!("--mpi needs an xtask built with `--features mpi` (docs/distributed.md)")
+}
+
+/// `mpi-run`'s arguments.
+#[cfg(feature = "mpi")]
+#[derive(Args)]
+pub struct MpiRunArgs {
+    /// The scenario (TOML) with a `[rolling]` section.
+    pub scenario: PathBuf,
+    /// Output directory (written by rank 0); checkpoints in `OUT/checkpoint`.
+    #[arg(long, default_value = "validation")]
+    pub out: PathBuf,
+    /// Warm-up steps each rank solves before its part.
+    #[arg(long, default_value_t = tyreroad_distributed::DEFAULT_WARMUP)]
+    pub warmup: usize,
+}
+
+/// `mpi-run`: the rolling run split over the ranks, written by rank 0.
+#[cfg(feature = "mpi")]
+pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
+    use tyreroad::scenario::Scenario;
+    use tyreroad_distributed::mpi;
+    let scenario = Scenario::from_path(&args.scenario)?;
+    let base = args.scenario.parent().unwrap_or(Path::new("."));
+    let universe = mpi::initialize().ok_or_else(|| anyhow::anyhow!("MPI already started"))?;
+    let options = RunOptions {
+        base_dir: base.to_path_buf(),
+        // One rank per core: each rank steps on one thread.
+        par: Some(Par::Seq),
+        progress: None,
+        checkpoint_dir: Some(args.out.join("checkpoint")),
+    };
+    if let Some(run) = mpi::roll(&universe.world(), &scenario, &options, args.warmup)? {
+        crate::rolling_cmd::report_rolling(&run, &args.out)?;
+    }
+    Ok(())
+}
