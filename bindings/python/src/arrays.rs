@@ -1,7 +1,9 @@
 //! Array arguments: read-only NumPy views checked for dtype, shape and
 //! contiguity, and Rust vectors handed to NumPy without a copy.
 
-use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::input_error;
@@ -92,5 +94,8 @@ pub fn positions(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[f64; 2]>> 
             "{name}: expected shape (N, 2), got ({n}, {cols})"
         )));
     }
-    Ok(slice(&view)?.chunks_exact(2).map(|p| [p[0], p[1]]).collect())
+    Ok(slice(&view)?
+        .chunks_exact(2)
+        .map(|p| [p[0], p[1]])
+        .collect())
 }

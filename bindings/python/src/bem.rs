@@ -37,7 +37,11 @@ fn bem_solve<'py>(
     let control = match (load, approach) {
         (Some(w), None) => Control::Load(w),
         (None, Some(d)) => Control::Approach(d),
-        _ => return Err(input_error("give exactly one of load= (N) or approach= (m)")),
+        _ => {
+            return Err(input_error(
+                "give exactly one of load= (N) or approach= (m)",
+            ));
+        }
     };
     let view = view2(heights, "heights")?;
     let (ny, nx) = rows_cols(&view);

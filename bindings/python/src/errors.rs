@@ -17,15 +17,60 @@ create_exception!(
     Error,
     "A Python argument refused before Rust sees it: wrong dtype, shape, contiguity or type."
 );
-create_exception!(_tyreroad, CoreError, Error, "tyreroad-core: material, grid, spectrum.");
-create_exception!(_tyreroad, GeometryError, Error, "tyreroad-asperity: asperity shapes and meshes.");
-create_exception!(_tyreroad, LawError, Error, "tyreroad-contact-law: contact laws.");
-create_exception!(_tyreroad, SolveError, Error, "tyreroad-multipoint: the multipoint solve.");
-create_exception!(_tyreroad, TextureError, Error, "tyreroad-texture: height maps, readers, segmentation.");
-create_exception!(_tyreroad, BemError, Error, "tyreroad-bem: the full-grid BEM.");
-create_exception!(_tyreroad, FilmError, Error, "tyreroad-film: pressure-film analysis.");
-create_exception!(_tyreroad, RollingError, Error, "tyreroad-rolling: rolling runs.");
-create_exception!(_tyreroad, ScenarioError, Error, "tyreroad.scenario: scenario files and runs.");
+create_exception!(
+    _tyreroad,
+    CoreError,
+    Error,
+    "tyreroad-core: material, grid, spectrum."
+);
+create_exception!(
+    _tyreroad,
+    GeometryError,
+    Error,
+    "tyreroad-asperity: asperity shapes and meshes."
+);
+create_exception!(
+    _tyreroad,
+    LawError,
+    Error,
+    "tyreroad-contact-law: contact laws."
+);
+create_exception!(
+    _tyreroad,
+    SolveError,
+    Error,
+    "tyreroad-multipoint: the multipoint solve."
+);
+create_exception!(
+    _tyreroad,
+    TextureError,
+    Error,
+    "tyreroad-texture: height maps, readers, segmentation."
+);
+create_exception!(
+    _tyreroad,
+    BemError,
+    Error,
+    "tyreroad-bem: the full-grid BEM."
+);
+create_exception!(
+    _tyreroad,
+    FilmError,
+    Error,
+    "tyreroad-film: pressure-film analysis."
+);
+create_exception!(
+    _tyreroad,
+    RollingError,
+    Error,
+    "tyreroad-rolling: rolling runs."
+);
+create_exception!(
+    _tyreroad,
+    ScenarioError,
+    Error,
+    "tyreroad.scenario: scenario files and runs."
+);
 
 /// Maps a Rust error to its Python exception, message unchanged.
 pub trait IntoPyErr {

@@ -65,9 +65,12 @@ fn analyse_film<'py>(
     if let Some(t) = threshold_grey {
         options.threshold = Threshold::Grey(t);
     }
-    let d = py.detach(|| analyse(&scan, &response, &options)).or_raise()?;
+    let d = py
+        .detach(|| analyse(&scan, &response, &options))
+        .or_raise()?;
     let out = PyDict::new(py);
-    let column = |f: &dyn Fn(&tyreroad::film::Print) -> f64| to_numpy1(py, d.prints.iter().map(f).collect());
+    let column =
+        |f: &dyn Fn(&tyreroad::film::Print) -> f64| to_numpy1(py, d.prints.iter().map(f).collect());
     out.set_item("area", column(&|p| p.area))?;
     out.set_item("radius", column(&|p| p.apparent_radius))?;
     out.set_item("centroid_x", column(&|p| p.centroid_px.0))?;

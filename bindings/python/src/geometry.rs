@@ -6,7 +6,9 @@ use std::sync::Arc;
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use tyreroad::asperity::{CapGeometry, CapMeasures, Cone, EllipticParaboloid, MeshAsperity, Sphere};
+use tyreroad::asperity::{
+    CapGeometry, CapMeasures, Cone, EllipticParaboloid, MeshAsperity, Sphere,
+};
 use tyreroad::contact_law::{ContactLaw, LocalRule, PotentialLaw};
 use tyreroad::shared::Material as RustMaterial;
 
@@ -209,8 +211,8 @@ impl Asperity {
             indices.push(tri);
         }
         let geometry = MeshAsperity::new(&vertices, &indices).or_raise()?;
-        let law =
-            PotentialLaw::new(geometry, material.inner, constant, LocalRule::HalfSection).or_raise()?;
+        let law = PotentialLaw::new(geometry, material.inner, constant, LocalRule::HalfSection)
+            .or_raise()?;
         Ok(Self {
             law: Law::Mesh(Arc::new(law)),
             kind: "mesh",
@@ -220,7 +222,11 @@ impl Asperity {
     /// Cap measures at each interpenetration depth δ (m) of a float64 1-D
     /// array: a dict of arrays `volume` Ω (m³), `base_area` Σ (m²),
     /// `perimeter` Γ (m), `d_base_area` dΣ/dδ (m), `d_perimeter` dΓ/dδ.
-    fn cap<'py>(&self, py: Python<'py>, depths: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    fn cap<'py>(
+        &self,
+        py: Python<'py>,
+        depths: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let view = view1(depths, "depths")?;
         let m: Vec<CapMeasures> = slice(&view)?.iter().map(|&d| self.measures(d)).collect();
         let out = PyDict::new(py);
@@ -234,8 +240,16 @@ impl Asperity {
     }
 
     /// The law's force P(δ) (N) at each depth (m).
-    fn force<'py>(&self, py: Python<'py>, depths: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        map_depths(py, depths, |d| each_law!(&self.law, l => l.evaluate(d).force))
+    fn force<'py>(
+        &self,
+        py: Python<'py>,
+        depths: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        map_depths(
+            py,
+            depths,
+            |d| each_law!(&self.law, l => l.evaluate(d).force),
+        )
     }
 
     /// The law's stiffness k(δ) = dP/dδ (N/m) at each depth (m).
@@ -244,7 +258,11 @@ impl Asperity {
         py: Python<'py>,
         depths: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        map_depths(py, depths, |d| each_law!(&self.law, l => l.evaluate(d).stiffness))
+        map_depths(
+            py,
+            depths,
+            |d| each_law!(&self.law, l => l.evaluate(d).stiffness),
+        )
     }
 
     /// The potential U(δ) (J) at each depth (m).

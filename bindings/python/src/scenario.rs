@@ -87,14 +87,21 @@ fn static_dict<'py>(py: Python<'py>, r: &StaticResult) -> PyResult<Bound<'py, Py
         "ids",
         r.rows.iter().take(n).map(|row| row.id).collect::<Vec<_>>(),
     )?;
-    out.set_item("x", to_numpy1(py, r.rows.iter().take(n).map(|row| row.x).collect()))?;
-    out.set_item("y", to_numpy1(py, r.rows.iter().take(n).map(|row| row.y).collect()))?;
+    out.set_item(
+        "x",
+        to_numpy1(py, r.rows.iter().take(n).map(|row| row.x).collect()),
+    )?;
+    out.set_item(
+        "y",
+        to_numpy1(py, r.rows.iter().take(n).map(|row| row.y).collect()),
+    )?;
     let grid = |f: fn(&tyreroad::scenario::StaticRow) -> f64| {
         to_numpy2(py, r.rows.iter().map(f).collect::<Vec<f64>>(), nl, n)
     };
     out.set_item("forces", grid(|row| row.force)?)?;
     out.set_item("radii", grid(|row| row.radius)?)?;
-    let runs = |f: fn(&tyreroad::scenario::LoadRun) -> f64| to_numpy1(py, r.runs.iter().map(f).collect());
+    let runs =
+        |f: fn(&tyreroad::scenario::LoadRun) -> f64| to_numpy1(py, r.runs.iter().map(f).collect());
     out.set_item("loads", to_numpy1(py, loads))?;
     out.set_item("total_force", runs(|l| l.total))?;
     out.set_item("approach", runs(|l| l.approach))?;
@@ -117,7 +124,10 @@ fn texture_dict<'py>(py: Python<'py>, r: TextureResult) -> PyResult<Bound<'py, P
             Some(field) => {
                 let g = field.grid().clone();
                 let d = PyDict::new(py);
-                d.set_item("pressure", to_numpy2(py, field.into_values(), g.ny(), g.nx())?)?;
+                d.set_item(
+                    "pressure",
+                    to_numpy2(py, field.into_values(), g.ny(), g.nx())?,
+                )?;
                 d.set_item("origin", (g.origin()[0], g.origin()[1]))?;
                 d.set_item("spacing", (g.dx(), g.dy()))?;
                 d.into_any()
@@ -146,7 +156,10 @@ fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyD
     out.set_item("sensor_forces", to_numpy2(py, sensors, ns, nt)?)?;
     out.set_item(
         "status",
-        res.steps.iter().map(|s| format!("{:?}", s.status)).collect::<Vec<_>>(),
+        res.steps
+            .iter()
+            .map(|s| format!("{:?}", s.status))
+            .collect::<Vec<_>>(),
     )?;
     let sp = &r.spectra;
     out.set_item(
@@ -206,7 +219,10 @@ fn run_scenario<'py>(
                 return ControlFlow::Continue(());
             };
             Python::attach(|py| match cb.call1(py, (p.done, p.total)) {
-                Ok(v) if v.bind(py).is_instance_of::<PyBool>() && !v.bind(py).is_truthy().unwrap_or(true) => {
+                Ok(v)
+                    if v.bind(py).is_instance_of::<PyBool>()
+                        && !v.bind(py).is_truthy().unwrap_or(true) =>
+                {
                     ControlFlow::Break(())
                 }
                 Ok(_) => ControlFlow::Continue(()),

@@ -137,7 +137,11 @@ fn solve(
     let control = match (load, approach) {
         (Some(w), None) => Control::Load(w),
         (None, Some(d)) => Control::Approach(d),
-        _ => return Err(input_error("give exactly one of load= (N) or approach= (m)")),
+        _ => {
+            return Err(input_error(
+                "give exactly one of load= (N) or approach= (m)",
+            ));
+        }
     };
     let positions = read_positions(positions, "positions")?;
     let heights_view = view1(heights, "heights")?;
@@ -150,8 +154,7 @@ fn solve(
         )));
     }
     let laws = laws(asperities, positions.len())?;
-    let problem =
-        Problem::from_heights(positions, heights, laws, material.inner).or_raise()?;
+    let problem = Problem::from_heights(positions, heights, laws, material.inner).or_raise()?;
     let mut options = SolverOptions::default();
     if let Some(t) = tolerance {
         options.tolerance = t;

@@ -34,7 +34,10 @@ fn map_out<'py>(py: Python<'py>, map: HeightMap) -> PyResult<(Bound<'py, PyAny>,
 /// .asc, .csv, .x3p, .sur, .png, .tif, .npy…): returns
 /// `(heights (ny, nx) in m, dx, dy in m)`, NaN at missing points.
 #[pyfunction]
-fn read_texture<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyAny>, f64, f64)> {
+fn read_texture<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+) -> PyResult<(Bound<'py, PyAny>, f64, f64)> {
     let map = py.detach(|| read_any(&path)).or_raise()?;
     map_out(py, map)
 }
@@ -108,14 +111,21 @@ fn segment<'py>(
     let seg = py.detach(|| rust_segment(&map, &options)).or_raise()?;
     let a = seg.asperities();
     let out = PyDict::new(py);
-    let column = |f: &dyn Fn(&tyreroad::texture::Asperity) -> f64| to_numpy1(py, a.iter().map(f).collect());
+    let column =
+        |f: &dyn Fn(&tyreroad::texture::Asperity) -> f64| to_numpy1(py, a.iter().map(f).collect());
     out.set_item("x", column(&|s| s.summit[0]))?;
     out.set_item("y", column(&|s| s.summit[1]))?;
     out.set_item("z", column(&|s| s.summit_height))?;
     out.set_item("prominence", column(&|s| s.prominence))?;
     out.set_item("area", column(&|s| s.area))?;
-    out.set_item("radius_x", column(&|s| s.fit.map_or(f64::NAN, |f| f.radii.0)))?;
-    out.set_item("radius_y", column(&|s| s.fit.map_or(f64::NAN, |f| f.radii.1)))?;
+    out.set_item(
+        "radius_x",
+        column(&|s| s.fit.map_or(f64::NAN, |f| f.radii.0)),
+    )?;
+    out.set_item(
+        "radius_y",
+        column(&|s| s.fit.map_or(f64::NAN, |f| f.radii.1)),
+    )?;
     let (nx, ny) = seg.size();
     out.set_item("labels", to_numpy2(py, seg.labels().to_vec(), ny, nx)?)?;
     Ok(out)
