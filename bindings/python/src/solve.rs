@@ -19,7 +19,9 @@ pub struct Solution {
     positions: Vec<[f64; 2]>,
     forces: Vec<f64>,
     depths: Vec<f64>,
-    contacts: Vec<LocalContact>,
+    /// The laws, kept to rebuild local contacts on demand (not in every
+    /// solve: that would be overhead the Rust caller does not pay).
+    laws: Vec<SharedLaw>,
     /// Rigid approach δ0 of the tread (m).
     #[pyo3(get)]
     approach: f64,
@@ -40,6 +42,18 @@ pub struct Solution {
     recovery: String,
 }
 
+impl Solution {
+    /// Each asperity's local contact (radius, pressure profile) from its
+    /// law's local rule, as `tyreroad_multipoint::Solution::local_contacts`.
+    fn local_contacts(&self) -> Vec<LocalContact> {
+        self.laws
+            .iter()
+            .zip(self.forces.iter().zip(&self.depths))
+            .map(|(law, (&p, &d))| law.local_contact(p, d))
+            .collect()
+    }
+}
+
 #[pymethods]
 impl Solution {
     /// Forces P_i (N), float64 (N,).
@@ -55,7 +69,7 @@ impl Solution {
     /// Local contact radii a_i (m), float64 (N,): 0 out of contact.
     #[getter]
     fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        to_numpy1(py, self.contacts.iter().map(|c| c.radius).collect())
+        to_numpy1(py, self.local_contacts().iter().map(|c| c.radius).collect())
     }
     /// Contacts carrying force.
     #[getter]
@@ -79,8 +93,9 @@ impl Solution {
         let grid = Grid::new(nx, ny, dx, dy)
             .and_then(|g| g.with_origin([origin.0, origin.1]))
             .or_raise()?;
+        let contacts = self.local_contacts();
         let field = py
-            .detach(|| pressure_map(&self.positions, &self.contacts, &grid))
+            .detach(|| pressure_map(&self.positions, &contacts, &grid))
             .or_raise()?;
         to_numpy2(py, field.into_values(), ny, nx)
     }
@@ -162,13 +177,12 @@ fn solve(
     let s = py
         .detach(|| rust_solve(&problem, control, &options))
         .or_raise()?;
-    let contacts = s.local_contacts(&problem);
     Ok(Solution {
         total_force: s.total_force(),
         positions: problem.positions().to_vec(),
         forces: s.forces,
         depths: s.depths,
-        contacts,
+        laws: problem.laws().to_vec(),
         approach: s.approach,
         iterations: s.iterations,
         residual: s.residual,
