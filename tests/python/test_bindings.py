@@ -220,6 +220,8 @@ def test_scenario_as_dict_equals_the_file():
     assert from_dict["kind"] == "static"
     np.testing.assert_array_equal(from_dict["forces"], from_file["forces"])
     assert from_file["ids"] == list(range(1, 26))
+    assert from_file["forces"].shape == (4, 25)
+    assert np.all(from_file["solve_seconds"] > 0)
 
 
 def test_scenario_errors_name_the_key():

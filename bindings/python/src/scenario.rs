@@ -107,6 +107,8 @@ fn static_dict<'py>(py: Python<'py>, r: &StaticResult) -> PyResult<Bound<'py, Py
     out.set_item("approach", runs(|l| l.approach))?;
     out.set_item("iterations", runs(|l| l.iterations as f64))?;
     out.set_item("residual", runs(|l| l.residual))?;
+    // Wall time of each load's solve, measured on the Rust side.
+    out.set_item("solve_seconds", runs(|l| l.seconds))?;
     out.set_item("failed_loads", r.failed_loads.clone())?;
     Ok(out)
 }
