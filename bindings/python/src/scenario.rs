@@ -1,0 +1,259 @@
+//! Scenario runs from Python: a TOML path, TOML text or a dict with the
+//! file's structure; static, texture and rolling results as arrays.
+
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use tyreroad::scenario::{
+    Progress, RollingRun, RunOptions, Scenario, ScenarioResult, StaticResult, TextureResult,
+};
+
+use crate::arrays::{to_numpy1, to_numpy2};
+use crate::errors::{OrRaise, input_error};
+
+/// A Python value (dict, list, str, int, float, bool) as TOML.
+fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
+    if obj.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(obj.extract()?));
+    }
+    if obj.is_instance_of::<PyInt>() {
+        return Ok(toml::Value::Integer(obj.extract()?));
+    }
+    if obj.is_instance_of::<PyFloat>() {
+        return Ok(toml::Value::Float(obj.extract()?));
+    }
+    if obj.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(obj.extract()?));
+    }
+    if let Ok(dict) = obj.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in dict.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| input_error(format!("scenario {key}: keys must be strings")))?;
+            let value = to_toml(&v, &format!("{key}.{k}"))?;
+            table.insert(k, value);
+        }
+        return Ok(toml::Value::Table(table));
+    }
+    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> = obj.extract()?;
+        return items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| to_toml(v, &format!("{key}[{i}]")))
+            .collect::<PyResult<Vec<_>>>()
+            .map(toml::Value::Array);
+    }
+    Err(input_error(format!(
+        "scenario {key}: {} is not a TOML value (dict, list, str, int, float, bool)",
+        obj.get_type()
+    )))
+}
+
+/// The scenario and the directory its relative paths resolve against.
+fn load(scenario: &Bound<'_, PyAny>, base_dir: Option<PathBuf>) -> PyResult<(Scenario, PathBuf)> {
+    if let Ok(dict) = scenario.cast::<PyDict>() {
+        let text = toml::to_string(&to_toml(dict.as_any(), "")?)
+            .map_err(|e| input_error(format!("scenario: {e}")))?;
+        let s = Scenario::parse(&text, "<dict>").or_raise()?;
+        return Ok((s, base_dir.unwrap_or_else(|| PathBuf::from("."))));
+    }
+    if let Ok(text) = scenario.extract::<String>()
+        && text.contains('\n')
+    {
+        let s = Scenario::parse(&text, "<text>").or_raise()?;
+        return Ok((s, base_dir.unwrap_or_else(|| PathBuf::from("."))));
+    }
+    let path: PathBuf = scenario.extract().map_err(|_| {
+        input_error("scenario: expected a dict, TOML text or a path to a .toml file")
+    })?;
+    let s = Scenario::from_path(&path).or_raise()?;
+    let dir = path.parent().map(PathBuf::from).unwrap_or_default();
+    Ok((s, base_dir.unwrap_or(dir)))
+}
+
+fn static_dict<'py>(py: Python<'py>, r: &StaticResult) -> PyResult<Bound<'py, PyDict>> {
+    let loads: Vec<f64> = r.runs.iter().map(|l| l.load).collect();
+    let (nl, n) = (loads.len(), r.rows.len() / loads.len().max(1));
+    let out = PyDict::new(py);
+    out.set_item("kind", "static")?;
+    out.set_item("name", &r.name)?;
+    out.set_item(
+        "ids",
+        r.rows.iter().take(n).map(|row| row.id).collect::<Vec<_>>(),
+    )?;
+    out.set_item(
+        "x",
+        to_numpy1(py, r.rows.iter().take(n).map(|row| row.x).collect()),
+    )?;
+    out.set_item(
+        "y",
+        to_numpy1(py, r.rows.iter().take(n).map(|row| row.y).collect()),
+    )?;
+    let grid = |f: fn(&tyreroad::scenario::StaticRow) -> f64| {
+        to_numpy2(py, r.rows.iter().map(f).collect::<Vec<f64>>(), nl, n)
+    };
+    out.set_item("forces", grid(|row| row.force)?)?;
+    out.set_item("radii", grid(|row| row.radius)?)?;
+    let runs =
+        |f: fn(&tyreroad::scenario::LoadRun) -> f64| to_numpy1(py, r.runs.iter().map(f).collect());
+    out.set_item("loads", to_numpy1(py, loads))?;
+    out.set_item("total_force", runs(|l| l.total))?;
+    out.set_item("approach", runs(|l| l.approach))?;
+    out.set_item("iterations", runs(|l| l.iterations as f64))?;
+    out.set_item("residual", runs(|l| l.residual))?;
+    // Wall time of each load's solve, measured on the Rust side.
+    out.set_item("solve_seconds", runs(|l| l.seconds))?;
+    out.set_item("failed_loads", r.failed_loads.clone())?;
+    Ok(out)
+}
+
+fn texture_dict<'py>(py: Python<'py>, r: TextureResult) -> PyResult<Bound<'py, PyDict>> {
+    let out = static_dict(py, &r.statics)?;
+    out.set_item("kind", "texture")?;
+    let (nx, ny) = r.texture.size;
+    out.set_item("size", (nx, ny))?;
+    out.set_item("spacing", r.texture.spacing)?;
+    out.set_item("segmented", r.texture.segmented)?;
+    let maps = PyList::empty(py);
+    for l in r.loads {
+        let map = match l.two_scale.map {
+            Some(field) => {
+                let g = field.grid().clone();
+                let d = PyDict::new(py);
+                d.set_item(
+                    "pressure",
+                    to_numpy2(py, field.into_values(), g.ny(), g.nx())?,
+                )?;
+                d.set_item("origin", (g.origin()[0], g.origin()[1]))?;
+                d.set_item("spacing", (g.dx(), g.dy()))?;
+                d.into_any()
+            }
+            None => py.None().into_bound(py),
+        };
+        maps.append(map)?;
+    }
+    out.set_item("pressure_maps", maps)?;
+    Ok(out)
+}
+
+fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyDict>> {
+    let res = &r.result;
+    let out = PyDict::new(py);
+    out.set_item("kind", "rolling")?;
+    out.set_item("sample_rate", res.sample_rate)?;
+    out.set_item("time", to_numpy1(py, res.times()))?;
+    out.set_item("total_force", to_numpy1(py, res.total_force()))?;
+    out.set_item("approach", to_numpy1(py, res.approach()))?;
+    out.set_item("contact_area", to_numpy1(py, res.contact_area()))?;
+    let names: Vec<&str> = r.config.sensors.iter().map(|s| s.name.as_str()).collect();
+    let (ns, nt) = (names.len(), res.steps.len());
+    let sensors: Vec<f64> = (0..ns).flat_map(|k| res.sensor(k)).collect();
+    out.set_item("sensor_names", names)?;
+    out.set_item("sensor_forces", to_numpy2(py, sensors, ns, nt)?)?;
+    out.set_item(
+        "status",
+        res.steps
+            .iter()
+            .map(|s| format!("{:?}", s.status))
+            .collect::<Vec<_>>(),
+    )?;
+    let sp = &r.spectra;
+    out.set_item(
+        "band_centre",
+        to_numpy1(py, sp.primary.iter().map(|b| b.band.centre).collect()),
+    )?;
+    out.set_item(
+        "band_level_db",
+        to_numpy1(py, sp.primary.iter().map(|b| b.level_db).collect()),
+    )?;
+    let nb = sp.primary.len();
+    let sensor_levels: Vec<f64> = sp
+        .sensors
+        .iter()
+        .flat_map(|bands| bands.iter().map(|b| b.level_db))
+        .collect();
+    if sensor_levels.len() == sp.sensors.len() * nb {
+        out.set_item(
+            "sensor_level_db",
+            to_numpy2(py, sensor_levels, sp.sensors.len(), nb)?,
+        )?;
+    }
+    Ok(out)
+}
+
+/// Runs a scenario: `scenario` is a path to a .toml file, TOML text, or a
+/// dict with the file's structure (values with units as strings, "5 mm").
+/// Relative paths in it resolve against `base_dir` (default: the file's
+/// directory, or the working directory).
+///
+/// `progress(done, total)` is called after each rolling step (from a
+/// worker thread, holding the GIL); returning `False` stops the run, which
+/// raises `ScenarioError` ("interrupted after k of n steps"). Ctrl-C stops a rolling run between steps
+/// (`KeyboardInterrupt`); a static run finishes first.
+///
+/// Returns a dict whose `kind` is `"static"` (per-load arrays `forces`,
+/// `radii` of shape (loads, N), …), `"texture"` (the same plus the
+/// two-scale `pressure_maps`) or `"rolling"` (`time`, `total_force`,
+/// `sensor_forces` (sensors, steps), one-third-octave `band_centre` (Hz) and
+/// `band_level_db`, …).
+#[pyfunction]
+#[pyo3(signature = (scenario, base_dir=None, progress=None))]
+fn run_scenario<'py>(
+    py: Python<'py>,
+    scenario: &Bound<'py, PyAny>,
+    base_dir: Option<PathBuf>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (scenario, base_dir) = load(scenario, base_dir)?;
+    let callback_error: Mutex<Option<PyErr>> = Mutex::new(None);
+    let result = crate::interrupt::run(py, |cancel: &AtomicBool| {
+        let on_step = |p: Progress| {
+            if cancel.load(Ordering::Relaxed) {
+                return ControlFlow::Break(());
+            }
+            let Some(cb) = &progress else {
+                return ControlFlow::Continue(());
+            };
+            Python::attach(|py| match cb.call1(py, (p.done, p.total)) {
+                Ok(v)
+                    if v.bind(py).is_instance_of::<PyBool>()
+                        && !v.bind(py).is_truthy().unwrap_or(true) =>
+                {
+                    ControlFlow::Break(())
+                }
+                Ok(_) => ControlFlow::Continue(()),
+                Err(e) => {
+                    if let Ok(mut slot) = callback_error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    ControlFlow::Break(())
+                }
+            })
+        };
+        let options = RunOptions {
+            base_dir,
+            progress: Some(&on_step),
+            ..RunOptions::default()
+        };
+        scenario.run(&options)
+    })?;
+    if let Some(e) = callback_error.lock().ok().and_then(|mut s| s.take()) {
+        return Err(e);
+    }
+    match result.or_raise()? {
+        ScenarioResult::Static(r) => static_dict(py, &r),
+        ScenarioResult::Texture(r) => texture_dict(py, r),
+        ScenarioResult::Rolling(r) => rolling_dict(py, &r),
+    }
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(run_scenario, m)?)?;
+    Ok(())
+}
