@@ -19,6 +19,7 @@ pub use tyreroad_rolling as rolling;
 /// (`tyreroad-texture`).
 pub use tyreroad_texture as texture;
 
+pub mod fidelity;
 pub mod scenario;
 pub mod texture_road;
 pub mod two_scale;
