@@ -406,12 +406,16 @@ impl Fnv {
     }
 }
 
+type Slot = Arc<Mutex<Option<Arc<CalibratedTable>>>>;
+
 /// Calibrates laws and caches their tables by shape.
 #[derive(Debug)]
 pub struct Calibrator {
     material: Material,
     options: CalibrationOptions,
-    memory: Mutex<HashMap<u64, Arc<CalibratedTable>>>,
+    /// One slot per shape; a slot stays locked while its shape is being
+    /// solved, so two workers asking for the same cap solve it once.
+    memory: Mutex<HashMap<u64, Slot>>,
     disk: Option<PathBuf>,
     counts: Mutex<CacheCounts>,
 }
@@ -480,15 +484,17 @@ impl Calibrator {
     pub fn law(&self, patch: &CapPatch, max_depth: f64) -> Result<CalibratedLaw, FidelityError> {
         patch.validate()?;
         let key = self.key(patch, max_depth);
-        let found = self
-            .memory
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .get(&key)
-            .cloned();
-        if let Some(t) = found {
+        let slot: Slot = Arc::clone(
+            self.memory
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .entry(key)
+                .or_default(),
+        );
+        let mut slot = slot.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = slot.as_ref() {
             self.count(|c| c.memory_hits += 1);
-            return Ok(CalibratedLaw::new(t));
+            return Ok(CalibratedLaw::new(Arc::clone(t)));
         }
         let file = self.disk.as_ref().map(|d| d.join(format!("calib-{key:016x}.csv")));
         let table = match file.as_deref().and_then(read_table) {
@@ -506,10 +512,7 @@ impl Calibrator {
             }
         };
         let table = Arc::new(table);
-        self.memory
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .insert(key, Arc::clone(&table));
+        *slot = Some(Arc::clone(&table));
         Ok(CalibratedLaw::new(table))
     }
 

@@ -13,9 +13,10 @@ const MARGIN_CELLS: usize = 3;
 
 /// The patch of asperity `a` for depths up to `max_depth` (m, from its
 /// summit): the bounding box of the basin's cells within `max_depth` of the
-/// summit, widened by a margin; the basin's own heights inside, a floor
-/// below any reachable depth elsewhere (neighbouring basins and invalid
-/// points), so the solve sees this cap alone.
+/// summit, widened by a margin; the basin's own heights where they are
+/// within `max_depth` of the summit, a floor below any reachable depth
+/// elsewhere (deeper cells, neighbouring basins, invalid points), so the
+/// solve sees this cap alone.
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] if `max_depth` is not finite and > 0 or
@@ -59,8 +60,12 @@ pub fn cap_patch(map: &HeightMap, a: &Asperity, max_depth: f64) -> Result<CapPat
                 return floor;
             }
             let c = map.index(i, j);
-            if inside[c] {
-                (map.heights()[c] - a.summit_height).clamp(floor, 0.0)
+            let z = map.heights()[c] - a.summit_height;
+            // A cell deeper than the range can never touch within it: the
+            // floor there changes no solve, and keeps equal caps equal
+            // whatever the segmentation did with the ground around them.
+            if inside[c] && z >= -max_depth {
+                z.min(0.0)
             } else {
                 floor
             }

@@ -40,7 +40,7 @@ pub use error::ScenarioError;
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use spec::{
-    AsperitySpec, DynLaw, MaterialSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec, StaticSpec,
+    AsperitySpec, DynLaw, MaterialSpec, ModelSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec, StaticSpec,
     SynthSpec, TextureSpec,
 };
 pub use statics::{
