@@ -1,6 +1,7 @@
 //! The fidelity ladder end to end: `[model] fidelity` in a scenario, and
 //! the calibrated rung against the full BEM on a small texture of balls
 //! (the heavy, seven-road comparison is `cargo xtask validate --textures`).
+#![allow(clippy::unwrap_used)]
 
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::compare::{CompareOptions, compare_texture};
@@ -39,8 +40,11 @@ fn an_unknown_or_unavailable_fidelity_is_a_named_error() {
     let e = Scenario::parse(balls, "b").unwrap_err();
     assert!(e.to_string().contains("[model] fidelity"), "{e}");
     // Absent means the paper's law.
-    let s = Scenario::parse(&texture_scenario("wilke").replace("[model]\nfidelity = \"wilke\"\n", ""), "t")
-        .unwrap();
+    let s = Scenario::parse(
+        &texture_scenario("wilke").replace("[model]\nfidelity = \"wilke\"\n", ""),
+        "t",
+    )
+    .unwrap();
     assert_eq!(s.model.fidelity().unwrap(), Fidelity::Wilke);
 }
 
@@ -53,8 +57,17 @@ fn a_calibrated_texture_run_balances_every_load() -> TestResult {
         };
         assert!(r.statics.failed_loads.is_empty(), "{fidelity}");
         for run in &r.statics.runs {
-            let total: f64 = r.statics.at_load(run.load).iter().map(|row| row.force).sum();
-            assert!((total - run.load).abs() < 1e-6 * run.load, "{fidelity}: {total} vs {}", run.load);
+            let total: f64 = r
+                .statics
+                .at_load(run.load)
+                .iter()
+                .map(|row| row.force)
+                .sum();
+            assert!(
+                (total - run.load).abs() < 1e-6 * run.load,
+                "{fidelity}: {total} vs {}",
+                run.load
+            );
         }
     }
     Ok(())
@@ -70,7 +83,11 @@ fn two_balls() -> Result<HeightMap, Box<dyn std::error::Error>> {
             .iter()
             .map(|c| {
                 let d2 = (x - c[0]).powi(2) + (y - c[1]).powi(2);
-                if d2 < r * r { (r * r - d2).sqrt() - (r - 1.5e-3) } else { 0.0 }
+                if d2 < r * r {
+                    (r * r - d2).sqrt() - (r - 1.5e-3)
+                } else {
+                    0.0
+                }
             })
             .fold(0.0, f64::max)
     })?)
@@ -110,5 +127,3 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
     assert!(c.rungs[2].unavailable.is_some());
     Ok(())
 }
-
-

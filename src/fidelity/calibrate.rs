@@ -116,7 +116,11 @@ impl CapPatch {
 
     /// Depth of the highest cell below the summit (m, ≥ 0).
     pub fn summit_offset(&self) -> f64 {
-        -self.heights.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        -self
+            .heights
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 }
 
@@ -328,9 +332,8 @@ pub fn calibrate(
         ));
     }
     let bem = |context: &'static str| move |source| FidelityError::Bem { context, source };
-    let grid = Grid::new(patch.nx, patch.ny, patch.dx, patch.dy).map_err(|e| {
-        FidelityError::invalid("cap patch grid", e, "a valid grid")
-    })?;
+    let grid = Grid::new(patch.nx, patch.ny, patch.dx, patch.dy)
+        .map_err(|e| FidelityError::invalid("cap patch grid", e, "a valid grid"))?;
     let surface = HeightMap::new(grid.clone(), patch.heights.clone())
         .map_err(|e| FidelityError::invalid("cap patch heights", e, "a valid field"))?;
     // One patch is small: its FFTs run serially, and callers calibrate many
@@ -496,7 +499,10 @@ impl Calibrator {
             self.count(|c| c.memory_hits += 1);
             return Ok(CalibratedLaw::new(Arc::clone(t)));
         }
-        let file = self.disk.as_ref().map(|d| d.join(format!("calib-{key:016x}.csv")));
+        let file = self
+            .disk
+            .as_ref()
+            .map(|d| d.join(format!("calib-{key:016x}.csv")));
         let table = match file.as_deref().and_then(read_table) {
             Some(t) => {
                 self.count(|c| c.disk_hits += 1);
@@ -529,7 +535,10 @@ fn write_table(file: &Path, t: &CalibratedTable) -> Result<(), FidelityError> {
     if let Some(dir) = file.parent() {
         std::fs::create_dir_all(dir).map_err(io)?;
     }
-    let mut text = format!("depth_m,force_n,area_m2,reached_border={}\n", t.reached_border);
+    let mut text = format!(
+        "depth_m,force_n,area_m2,reached_border={}\n",
+        t.reached_border
+    );
     for (d, f, a) in t.knots() {
         text.push_str(&format!("{d:e},{f:e},{a:e}\n"));
     }
@@ -548,7 +557,8 @@ fn read_table(file: &Path) -> Option<CalibratedTable> {
     let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
     for line in lines {
         let mut it = line.split(',').map(|s| s.parse::<f64>());
-        let (Some(Ok(x)), Some(Ok(y)), Some(Ok(z)), None) = (it.next(), it.next(), it.next(), it.next())
+        let (Some(Ok(x)), Some(Ok(y)), Some(Ok(z)), None) =
+            (it.next(), it.next(), it.next(), it.next())
         else {
             return None;
         };

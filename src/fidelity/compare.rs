@@ -34,8 +34,7 @@ use crate::texture_road::{TextureRoad, TextureRoadOptions, texture_road};
 use crate::two_scale::{TwoScaleOptions, two_scale_solution};
 
 use super::{
-    CacheCounts, CalibrationOptions, Calibrator, Fidelity, FidelityError, LawSource,
-    calibrated_set,
+    CacheCounts, CalibrationOptions, Calibrator, Fidelity, FidelityError, LawSource, calibrated_set,
 };
 
 /// Block sizes of the block metrics (m).
@@ -141,7 +140,13 @@ fn basin_labels(road: &TextureRoad) -> Vec<usize> {
     }
     seg.labels()
         .iter()
-        .map(|&l| if l == UNLABELLED { n } else { to_kept[l as usize] })
+        .map(|&l| {
+            if l == UNLABELLED {
+                n
+            } else {
+                to_kept[l as usize]
+            }
+        })
         .collect()
 }
 
@@ -187,7 +192,9 @@ fn bem_reference(
     let err = |context: &'static str| move |source| FidelityError::Bem { context, source };
     let grid = Grid::new(map.nx(), map.ny(), map.dx(), map.dy())
         .map_err(|e| FidelityError::invalid("BEM grid", e, "a valid grid"))?;
-    let filled = map.filled().map_err(crate::texture_road::TextureRoadError::from)?;
+    let filled = map
+        .filled()
+        .map_err(crate::texture_road::TextureRoadError::from)?;
     let surface = bem::HeightMap::new(grid.clone(), filled.heights().to_vec())
         .map_err(|e| FidelityError::invalid("BEM surface", e, "a valid field"))?;
     let labels = basin_labels(road);
@@ -342,9 +349,8 @@ pub fn compare_texture(
                 let set = calibrated_set(&road, map, max_approach, &calibrator)?;
                 let problem = Problem::from_set(set, material)?;
                 let setup = t.elapsed().as_secs_f64();
-                let area = |s: &Solution| {
-                    Ok(s.local_contacts(&problem).iter().map(|c| c.area()).sum())
-                };
+                let area =
+                    |s: &Solution| Ok(s.local_contacts(&problem).iter().map(|c| c.area()).sum());
                 let r = run_rung(&problem, &rung.solver, &bem, map, summit_above_grid, area);
                 calibrated = Some((problem, setup));
                 (setup, r)
@@ -395,7 +401,9 @@ pub fn bem_resolution(
     material: &Material,
     load: f64,
 ) -> Result<Vec<(f64, f64, f64, f64)>, FidelityError> {
-    let filled = map.filled().map_err(crate::texture_road::TextureRoadError::from)?;
+    let filled = map
+        .filled()
+        .map_err(crate::texture_road::TextureRoadError::from)?;
     let (nx, ny, h) = (filled.nx(), filled.ny(), filled.dx());
     let z = |i: usize, j: usize| filled.heights()[filled.index(i.min(nx - 1), j.min(ny - 1))];
     let coarse: Vec<f64> = (0..ny.div_ceil(2))
@@ -404,7 +412,12 @@ pub fn bem_resolution(
         .collect();
     let fine: Vec<f64> = (0..2 * ny - 1)
         .flat_map(|j| (0..2 * nx - 1).map(move |i| (i, j)))
-        .map(|(i, j)| 0.25 * (z(i / 2, j / 2) + z(i.div_ceil(2), j / 2) + z(i / 2, j.div_ceil(2)) + z(i.div_ceil(2), j.div_ceil(2))))
+        .map(|(i, j)| {
+            0.25 * (z(i / 2, j / 2)
+                + z(i.div_ceil(2), j / 2)
+                + z(i / 2, j.div_ceil(2))
+                + z(i.div_ceil(2), j.div_ceil(2)))
+        })
         .collect();
     let cases = [
         (nx.div_ceil(2), ny.div_ceil(2), 2.0 * h, coarse),

@@ -152,7 +152,7 @@ impl Fidelity {
         Ok(Rung {
             fidelity: self,
             laws,
-            solver: base.clone(),
+            solver: *base,
         })
     }
 }

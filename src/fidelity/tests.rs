@@ -73,7 +73,11 @@ fn the_law_is_monotone_zero_outside_contact_and_its_slope_is_its_derivative() {
         last = p.force;
         let h = 1e-9;
         let fd = (law.force(d + h) - law.force(d - h)) / (2.0 * h);
-        assert!((fd - p.stiffness).abs() <= 1e-4 * p.stiffness + 1e-6, "δ = {d}: {fd} vs {}", p.stiffness);
+        assert!(
+            (fd - p.stiffness).abs() <= 1e-4 * p.stiffness + 1e-6,
+            "δ = {d}: {fd} vs {}",
+            p.stiffness
+        );
         // The inverse is the inverse.
         assert!((law.depth_for(p.force) - d).abs() < 1e-9, "δ = {d}");
     }
@@ -88,14 +92,28 @@ fn equal_caps_are_solved_once_and_the_disk_cache_round_trips() {
     let a = c.law(&small(), 0.1e-3).unwrap();
     let b = c.law(&small(), 0.1e-3).unwrap();
     assert_eq!(a.table(), b.table());
-    assert_eq!(c.counts(), CacheCounts { solved: 1, memory_hits: 1, disk_hits: 0 });
+    assert_eq!(
+        c.counts(),
+        CacheCounts {
+            solved: 1,
+            memory_hits: 1,
+            disk_hits: 0
+        }
+    );
     // Another range is another table.
     c.law(&small(), 0.05e-3).unwrap();
     assert_eq!(c.counts().solved, 2);
     // A new calibrator finds the first table on disk, knot for knot.
     let fresh = Calibrator::new(m, CalibrationOptions::default()).with_disk_cache(dir.path());
     let d = fresh.law(&small(), 0.1e-3).unwrap();
-    assert_eq!(fresh.counts(), CacheCounts { solved: 0, memory_hits: 0, disk_hits: 1 });
+    assert_eq!(
+        fresh.counts(),
+        CacheCounts {
+            solved: 0,
+            memory_hits: 0,
+            disk_hits: 1
+        }
+    );
     for ((d1, f1, a1), (d2, f2, a2)) in a.table().knots().zip(d.table().knots()) {
         assert!((d1 - d2).abs() <= 1e-15 * d1.abs() && (f1 - f2).abs() <= 1e-15 * f1.abs());
         assert!((a1 - a2).abs() <= 1e-15 * a1.abs());
@@ -108,11 +126,29 @@ fn bad_input_is_a_named_error() {
     let o = CalibrationOptions::default();
     let mut p = paraboloid();
     p.heights[0] = 1e-3;
-    assert!(matches!(calibrate(&p, 1e-4, &m, &o), Err(FidelityError::InvalidInput { key: "cap patch height", .. })));
+    assert!(matches!(
+        calibrate(&p, 1e-4, &m, &o),
+        Err(FidelityError::InvalidInput {
+            key: "cap patch height",
+            ..
+        })
+    ));
     let p = paraboloid();
-    assert!(matches!(calibrate(&p, -1.0, &m, &o), Err(FidelityError::InvalidInput { key: "calibration depth", .. })));
+    assert!(matches!(
+        calibrate(&p, -1.0, &m, &o),
+        Err(FidelityError::InvalidInput {
+            key: "calibration depth",
+            ..
+        })
+    ));
     let few = CalibrationOptions { nodes: 2, ..o };
-    assert!(matches!(calibrate(&p, 1e-4, &m, &few), Err(FidelityError::InvalidInput { key: "calibration nodes", .. })));
+    assert!(matches!(
+        calibrate(&p, 1e-4, &m, &few),
+        Err(FidelityError::InvalidInput {
+            key: "calibration nodes",
+            ..
+        })
+    ));
 }
 
 #[test]
@@ -120,10 +156,19 @@ fn rungs_parse_by_name_and_distributed_is_not_yet_available() {
     for r in RUNGS {
         assert_eq!(r.name().parse::<Fidelity>().unwrap(), r);
     }
-    assert!(matches!("clustered".parse::<Fidelity>(), Err(FidelityError::UnknownFidelity(_))));
+    assert!(matches!(
+        "clustered".parse::<Fidelity>(),
+        Err(FidelityError::UnknownFidelity(_))
+    ));
     let base = crate::multipoint::SolverOptions::default();
-    assert_eq!(Fidelity::Wilke.rung(&base).unwrap().laws, LawSource::Potential);
-    assert_eq!(Fidelity::Calibrated.rung(&base).unwrap().laws, LawSource::Calibrated);
+    assert_eq!(
+        Fidelity::Wilke.rung(&base).unwrap().laws,
+        LawSource::Potential
+    );
+    assert_eq!(
+        Fidelity::Calibrated.rung(&base).unwrap().laws,
+        LawSource::Calibrated
+    );
     let e = Fidelity::Distributed.rung(&base).unwrap_err();
     assert!(e.to_string().contains("not yet available"), "{e}");
 }

@@ -45,8 +45,14 @@ pub fn cap_patch(map: &HeightMap, a: &Asperity, max_depth: f64) -> Result<CapPat
             "a valid cell within the calibration depth",
         ));
     }
-    let (i0, j0) = (i0.saturating_sub(MARGIN_CELLS), j0.saturating_sub(MARGIN_CELLS));
-    let (i1, j1) = ((i1 + MARGIN_CELLS).min(nx - 1), (j1 + MARGIN_CELLS).min(ny - 1));
+    let (i0, j0) = (
+        i0.saturating_sub(MARGIN_CELLS),
+        j0.saturating_sub(MARGIN_CELLS),
+    );
+    let (i1, j1) = (
+        (i1 + MARGIN_CELLS).min(nx - 1),
+        (j1 + MARGIN_CELLS).min(ny - 1),
+    );
     let (pnx, pny) = ((i1 - i0 + 1).max(3), (j1 - j0 + 1).max(3));
     let floor = -(1.5 * max_depth + map.dx().max(map.dy()));
     let mut inside = vec![false; nx * ny];

@@ -515,7 +515,11 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
 fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
     let fidelity = scenario.model.fidelity()?;
     if let Err(e) = fidelity.rung(&scenario.solver_options()) {
-        return Err(bad("[model] fidelity", format!("{:?}", fidelity.name()), &e.to_string()));
+        return Err(bad(
+            "[model] fidelity",
+            format!("{:?}", fidelity.name()),
+            &e.to_string(),
+        ));
     }
     let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
     if fidelity == Fidelity::Calibrated && !static_texture {

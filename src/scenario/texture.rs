@@ -108,8 +108,8 @@ pub(crate) fn run_texture_static(
         .rung(&scenario.solver_options())?;
     let solved = match rung.laws {
         LawSource::Potential => {
-            let problem =
-                Problem::from_set(road.set, material).map_err(as_problem("[texture] asperities"))?;
+            let problem = Problem::from_set(road.set, material)
+                .map_err(as_problem("[texture] asperities"))?;
             run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
         }
         LawSource::Calibrated => {
@@ -120,7 +120,9 @@ pub(crate) fn run_texture_static(
                 .map_err(as_problem("[texture] asperities"))?;
             let top = loads.iter().copied().fold(0.0, f64::max);
             let approach = solve(&wilke, Control::Load(top), &rung.solver)
-                .map_err(as_problem("[model] fidelity: the approach range of the calibration"))?
+                .map_err(as_problem(
+                    "[model] fidelity: the approach range of the calibration",
+                ))?
                 .approach;
             let calibrator = Calibrator::new(material, CalibrationOptions::default());
             let set = calibrated_set(&road, &map, APPROACH_MARGIN * approach, &calibrator)?;

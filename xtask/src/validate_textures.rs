@@ -45,8 +45,14 @@ const KINDS: [(&str, &str); 7] = [
         "kind = \"aggregate\"\nseed = 2006\ngrading = \"4/6\"\ncoverage = 1.3\nembedding = [0.6, 0.8]\n",
     ),
     ("porous asphalt", "kind = \"porous_asphalt\"\nseed = 18\n"),
-    ("exposed aggregate", "kind = \"exposed_aggregate\"\nseed = 17\n"),
-    ("tined concrete", "kind = \"transverse_tining\"\nseed = 14\n"),
+    (
+        "exposed aggregate",
+        "kind = \"exposed_aggregate\"\nseed = 17\n",
+    ),
+    (
+        "tined concrete",
+        "kind = \"transverse_tining\"\nseed = 14\n",
+    ),
 ];
 
 /// The label of the kind whose BEM resolution convergence is shown.
@@ -106,19 +112,37 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         let t = Instant::now();
         let c = compare_texture(&map, material, &options)
             .with_context(|| format!("road kind `{label}`"))?;
-        eprintln!("  {} asperities, {:.1} s", c.asperities, t.elapsed().as_secs_f64());
+        eprintln!(
+            "  {} asperities, {:.1} s",
+            c.asperities,
+            t.elapsed().as_secs_f64()
+        );
         if *label == RESOLUTION_KIND && !args.no_resolution {
             let rows = bem_resolution(&map, &material, LOADS[1])?;
             writeln!(report, "\nBEM resolution, {label}, {} N:\n", LOADS[1])?;
-            writeln!(report, "| cell (mm) | approach (µm) | contact area (mm²) | wrong 10 mm block vs finest |")?;
+            writeln!(
+                report,
+                "| cell (mm) | approach (µm) | contact area (mm²) | wrong 10 mm block vs finest |"
+            )?;
             writeln!(report, "|---|---|---|---|")?;
             for (cell, d, a, w) in rows {
-                writeln!(report, "| {:.2} | {:.1} | {:.2} | {:.2} % |", cell * 1e3, d * 1e6, a * 1e6, 100.0 * w)?;
+                writeln!(
+                    report,
+                    "| {:.2} | {:.1} | {:.2} | {:.2} % |",
+                    cell * 1e3,
+                    d * 1e6,
+                    a * 1e6,
+                    100.0 * w
+                )?;
             }
         }
+        // Each road's rows as soon as they exist: a long run that is cut
+        // short still leaves its finished roads on the terminal.
+        print!("{}", tables(&[(label, c.clone())], cells, spacing_mm)?);
         results.push((*label, c));
     }
     report.push_str(&tables(&results, cells, spacing_mm)?);
+    println!("\n== all roads ==");
     print!("{report}");
     let mut set = OutputSet::new(&args.out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
@@ -185,7 +209,10 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
          interaction; `calibrated` = exact laws + point interaction (the interaction's share); \
          law only = Wilke laws on the BEM's own load sharing (the law's share).\n"
     )?;
-    writeln!(out, "| road | W (N) | wilke | calibrated | law only | calibration tables solved / reused |")?;
+    writeln!(
+        out,
+        "| road | W (N) | wilke | calibrated | law only | calibration tables solved / reused |"
+    )?;
     writeln!(out, "|---|---|---|---|---|---|")?;
     for (label, c) in results {
         for (k, b) in c.bem.iter().enumerate() {
@@ -195,7 +222,9 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
                     .find(|r| r.fidelity == f)
                     .and_then(|r| r.loads.get(k))
                     .and_then(|l| l.as_ref().ok())
-                    .map_or("—".to_string(), |l| format!("{:.1} %", 100.0 * l.wrong_asperity))
+                    .map_or("—".to_string(), |l| {
+                        format!("{:.1} %", 100.0 * l.wrong_asperity)
+                    })
             };
             writeln!(
                 out,
@@ -203,7 +232,9 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
                 b.load,
                 at(tyreroad::fidelity::Fidelity::Wilke),
                 at(tyreroad::fidelity::Fidelity::Calibrated),
-                c.law_only.get(k).map_or("—".into(), |v| format!("{:.1} %", 100.0 * v)),
+                c.law_only
+                    .get(k)
+                    .map_or("—".into(), |v| format!("{:.1} %", 100.0 * v)),
                 c.cache.solved,
                 c.cache.memory_hits + c.cache.disk_hits,
             )?;
