@@ -21,25 +21,24 @@ mod common;
 use common::{random_field, rubber, tyre_like_load};
 
 const N: usize = 1500;
-/// Depth range of the calibrated tables (m): past the deepest summit's
-/// indentation at the bench load (≈ 0.7 mm); beyond, the law continues
-/// linearly.
-const DEPTH: f64 = 1.0e-3;
+/// Depth range of the calibrated tables (m): past the approach at the
+/// bench load (2.7 mm from the highest summit), so no law is extrapolated.
+const DEPTH: f64 = 3.0e-3;
 const CELL: f64 = 1e-4;
 
-/// A true sphere cap of radius `r` on 0.1 mm cells, wide enough for the
+/// A true hemisphere of radius `r` on 0.1 mm cells (a cliff down to the
+/// floor at its equator, as a chipping's basin ends), wide enough for the
 /// contact at [`DEPTH`].
 fn sphere_patch(r: f64) -> CapPatch {
-    let reach = (2.0 * r * DEPTH).sqrt() + 4.0 * CELL;
+    let reach = (2.0 * r * DEPTH).sqrt().min(r) + 4.0 * CELL;
     let n = 2 * (reach / CELL).ceil() as usize + 1;
     CapPatch::from_fn(n, CELL, |x, y| {
         let d2 = x * x + y * y;
         if d2 < r * r {
             (r * r - d2).sqrt() - r
         } else {
-            -r
+            -2.0 * DEPTH
         }
-        .max(-2.0 * DEPTH)
     })
     .expect("patch")
 }
