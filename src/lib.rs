@@ -20,6 +20,7 @@ pub use tyreroad_rolling as rolling;
 pub use tyreroad_texture as texture;
 
 pub mod bem_rolling;
+pub mod fidelity;
 pub mod scenario;
 pub mod texture_road;
 pub mod two_scale;

@@ -10,6 +10,7 @@
 use super::ScenarioError;
 use super::rolling_spec::{RollingSpec, TreadSpec};
 use super::spec::{Scenario, ShapeSpec, SynthSpec};
+use crate::fidelity::Fidelity;
 
 /// Young's modulus range (Pa): a soft gel to a hard metal.
 pub const MODULUS_RANGE: [f64; 2] = [1e3, 1e12];
@@ -116,6 +117,7 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
         return invalid("no [[asperity]] given");
     }
     check_name(&scenario.name)?;
+    check_fidelity(scenario)?;
     in_range(
         "[material] youngs_modulus",
         scenario.material.youngs_modulus.value(),
@@ -504,6 +506,28 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
                 &format!("at most {MAX_SYNTHETIC_SUMMITS:e} summits on the road"),
             ));
         }
+    }
+    Ok(())
+}
+
+/// `[model] fidelity`: a known rung, available, and one this kind of run
+/// implements (the calibrated laws are built from a texture's caps).
+fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
+    let fidelity = scenario.model.fidelity()?;
+    if let Err(e) = fidelity.rung(&scenario.solver_options()) {
+        return Err(bad(
+            "[model] fidelity",
+            format!("{:?}", fidelity.name()),
+            &e.to_string(),
+        ));
+    }
+    let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
+    if fidelity == Fidelity::Calibrated && !static_texture {
+        return Err(bad(
+            "[model] fidelity",
+            "\"calibrated\"",
+            "\"wilke\" here: calibrated laws are built for a static [texture] scenario",
+        ));
     }
     Ok(())
 }

@@ -84,6 +84,9 @@ pub enum ScenarioError {
     /// A texture could not be turned into asperities.
     #[error("turning the texture into asperities: {0}")]
     TextureRoad(#[from] crate::texture_road::TextureRoadError),
+    /// Calibrating the laws of a `[model] fidelity = "calibrated"` run failed.
+    #[error("[model] fidelity: {0}")]
+    Fidelity(#[from] crate::fidelity::FidelityError),
     /// A two-scale rebuild failed.
     #[error("{context}: {source}")]
     TwoScale {

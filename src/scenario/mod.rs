@@ -40,8 +40,8 @@ pub use error::ScenarioError;
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use spec::{
-    AsperitySpec, DynLaw, MaterialSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec, StaticSpec,
-    SynthSpec, TextureSpec,
+    AsperitySpec, DynLaw, MaterialSpec, ModelSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec,
+    StaticSpec, SynthSpec, TextureSpec,
 };
 pub use statics::{
     LoadRun, StaticResult, StaticRow, StaticSolve, loads, run_static, run_static_problem,

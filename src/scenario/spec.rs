@@ -12,6 +12,7 @@ use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine, roads};
 use super::ScenarioError;
 use super::rolling_spec::RollingSpec;
 use super::units::{Angle, Area, Force, Length, Pressure};
+use crate::fidelity::Fidelity;
 use crate::texture_road::TextureRoadOptions;
 
 type Result<T, E = ScenarioError> = std::result::Result<T, E>;
@@ -45,6 +46,34 @@ pub struct Scenario {
     pub asperities: Vec<AsperitySpec>,
     /// A road texture whose asperities replace the `[[asperity]]` list.
     pub texture: Option<TextureSpec>,
+    /// `[model]`: which rung of the fidelity ladder runs.
+    #[serde(default)]
+    pub model: ModelSpec,
+}
+
+/// `[model]`: the model's fidelity (`crate::fidelity`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// `"wilke"` (default), `"calibrated"` or `"distributed"`.
+    pub fidelity: Option<String>,
+}
+
+impl ModelSpec {
+    /// The rung asked for, [`Fidelity::Wilke`] when not given.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming `[model] fidelity` for an unknown name.
+    pub fn fidelity(&self) -> Result<Fidelity> {
+        match &self.fidelity {
+            None => Ok(Fidelity::Wilke),
+            Some(name) => name.parse().map_err(|_| ScenarioError::Value {
+                key: "[model] fidelity".into(),
+                value: format!("{name:?}"),
+                expected: "\"wilke\", \"calibrated\" or \"distributed\"".into(),
+            }),
+        }
+    }
 }
 
 /// `[texture]`: a height map, read (`file`) or synthesised (`[texture.synth]`),

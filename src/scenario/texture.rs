@@ -7,11 +7,13 @@ use std::path::Path;
 use std::sync::Arc;
 
 use tyreroad_contact_law::Material;
-use tyreroad_multipoint::{AsperitySet, Problem};
+use tyreroad_multipoint::{AsperitySet, Control, Problem, solve};
 use tyreroad_texture::HeightMap;
 
 use super::statics::{StaticResult, run_static_problem, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
+use crate::fidelity::compare::APPROACH_MARGIN;
+use crate::fidelity::{CalibrationOptions, Calibrator, LawSource, calibrated_set};
 use crate::texture_road::{TextureLaw, TextureRoad, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
@@ -96,17 +98,39 @@ pub(crate) fn run_texture_static(
     let shapes = road.local_shapes(&map)?;
     let positions = road.set.positions().to_vec();
     let ids: Vec<u32> = (1..=road.len() as u32).collect();
-    let problem = Problem::from_set(road.set, material).map_err(|source| ScenarioError::Solve {
-        context: "[texture] asperities".into(),
-        source,
-    })?;
-    let solved = run_static_problem(
-        &scenario.name,
-        &problem,
-        &ids,
-        &loads,
-        &scenario.solver_options(),
-    )?;
+    let as_problem = |context: &str| {
+        let context = context.to_string();
+        move |source| ScenarioError::Solve { context, source }
+    };
+    let rung = scenario
+        .model
+        .fidelity()?
+        .rung(&scenario.solver_options())?;
+    let solved = match rung.laws {
+        LawSource::Potential => {
+            let problem = Problem::from_set(road.set, material)
+                .map_err(as_problem("[texture] asperities"))?;
+            run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+        }
+        LawSource::Calibrated => {
+            // The tables must cover the approaches in use: the Wilke
+            // model's at the largest load, with a margin (beyond a table
+            // the law continues linearly, so a deeper solve still works).
+            let wilke = Problem::from_set(road.set.clone(), material)
+                .map_err(as_problem("[texture] asperities"))?;
+            let top = loads.iter().copied().fold(0.0, f64::max);
+            let approach = solve(&wilke, Control::Load(top), &rung.solver)
+                .map_err(as_problem(
+                    "[model] fidelity: the approach range of the calibration",
+                ))?
+                .approach;
+            let calibrator = Calibrator::new(material, CalibrationOptions::default());
+            let set = calibrated_set(&road, &map, APPROACH_MARGIN * approach, &calibrator)?;
+            let problem =
+                Problem::from_set(set, material).map_err(as_problem("[texture] asperities"))?;
+            run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+        }
+    };
     let options = TwoScaleOptions {
         map_cell: Some(map.dx().min(map.dy())),
         ..TwoScaleOptions::default()

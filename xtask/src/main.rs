@@ -1,6 +1,7 @@
 //! The tyreroad runner: `cargo xtask <command>`.
 //!
 //! - `validate [--out DIR]`: the paper's 25-ball experiment, solved and checked;
+//!   `validate --textures`: every fidelity rung against the BEM on seven road kinds;
 //! - `run SCENARIO.toml [--out DIR]`: a static scenario's loads (on its
 //!   `[[asperity]]` list or its `[texture]`), or a rolling run when the
 //!   scenario has a `[rolling]` section;
@@ -25,6 +26,7 @@ mod texture_static;
 mod texture_synth;
 mod torture;
 mod validate;
+mod validate_textures;
 
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,106 @@
+//! Each rung of the fidelity ladder (`tyreroad::fidelity`) on a road-like
+//! field of 1500 summits: the static solve with Wilke laws and with
+//! BEM-calibrated laws (point coupling both), and the calibration of one
+//! cap. The rung `distributed` is not available yet and is not measured.
+//!
+//! The field: `multipoint::layouts::road_like_field` (mean spacing 3 mm,
+//! summit heights over 0.5 mm), its radii rounded to 0.5 mm classes so the
+//! calibrated rung solves one cap per class (as a texture of repeated
+//! chippings would); both rungs use the same rounded spheres. Load: a tyre's
+//! 0.2 MPa over the field.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use tyreroad::asperity::Sphere;
+use tyreroad::contact_law::PotentialLaw;
+use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, calibrate};
+use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
+
+#[path = "common/mod.rs"]
+mod common;
+
+use common::{random_field, rubber, tyre_like_load};
+
+const N: usize = 1500;
+/// Depth range of the calibrated tables (m): past the approach at the
+/// bench load (2.7 mm from the highest summit), so no law is extrapolated.
+const DEPTH: f64 = 3.0e-3;
+const CELL: f64 = 1e-4;
+
+/// A true hemisphere of radius `r` on 0.1 mm cells (a cliff down to the
+/// floor at its equator, as a chipping's basin ends), wide enough for the
+/// contact at [`DEPTH`].
+fn sphere_patch(r: f64) -> CapPatch {
+    let reach = (2.0 * r * DEPTH).sqrt().min(r) + 4.0 * CELL;
+    let n = 2 * (reach / CELL).ceil() as usize + 1;
+    CapPatch::from_fn(n, CELL, |x, y| {
+        let d2 = x * x + y * y;
+        if d2 < r * r {
+            (r * r - d2).sqrt() - r
+        } else {
+            -2.0 * DEPTH
+        }
+    })
+    .expect("patch")
+}
+
+fn bench_rungs(c: &mut Criterion) {
+    let field = random_field(N, 2006);
+    let radii: Vec<f64> = field
+        .laws()
+        .iter()
+        .map(|l| (l.geometry().radius() / 0.5e-3).round().max(1.0) * 0.5e-3)
+        .collect();
+    let positions = field.positions().to_vec();
+    let gaps = field.gaps().to_vec();
+    let wilke_laws: Vec<_> = radii
+        .iter()
+        .map(|&r| PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber()))
+        .collect();
+    let calibrator = Calibrator::new(rubber(), CalibrationOptions::default());
+    let t = std::time::Instant::now();
+    let calibrated_laws: Vec<CalibratedLaw> = radii
+        .iter()
+        .map(|&r| {
+            calibrator
+                .law(&sphere_patch(r), DEPTH)
+                .expect("calibration")
+        })
+        .collect();
+    eprintln!(
+        "calibration: {:?} in {:.1} s",
+        calibrator.counts(),
+        t.elapsed().as_secs_f64()
+    );
+    let wilke = Problem::new(positions.clone(), gaps.clone(), wilke_laws, rubber()).expect("set");
+    let calibrated = Problem::new(positions, gaps, calibrated_laws, rubber()).expect("set");
+    let load = tyre_like_load(N);
+    let opts = SolverOptions::default();
+    let mut group = c.benchmark_group("fidelity/road_like_1500");
+    group.sample_size(10);
+    for (name, s) in [
+        ("wilke", solve(&wilke, Control::Load(load), &opts)),
+        ("calibrated", solve(&calibrated, Control::Load(load), &opts)),
+    ] {
+        let s = s.expect("converges");
+        eprintln!(
+            "{name}: {load:.0} N, {} in contact, approach {:.1} µm, {} iterations",
+            s.contact_count(),
+            s.approach * 1e6,
+            s.iterations
+        );
+    }
+    group.bench_function("wilke", |b| {
+        b.iter(|| solve(&wilke, Control::Load(load), &opts).expect("converges"))
+    });
+    group.bench_function("calibrated", |b| {
+        b.iter(|| solve(&calibrated, Control::Load(load), &opts).expect("converges"))
+    });
+    group.bench_function("calibrate_one_cap_R3mm", |b| {
+        let patch = sphere_patch(3e-3);
+        b.iter(|| calibrate(&patch, DEPTH, &rubber(), &CalibrationOptions::default()).expect("ok"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_rungs);
+criterion_main!(benches);

@@ -1,0 +1,573 @@
+//! Rung 1: a contact law calibrated by a single-asperity BEM solve of the
+//! asperity's own cap (docs/validation.md, "Fidelity on textures").
+//!
+//! A [`CapPatch`] is the rigid surface of one asperity on a small grid,
+//! heights relative to the law's summit (so `δ` of the law is measured from
+//! the summit, as the multipoint model measures it). The BEM
+//! (`tyreroad-bem`) solves the patch alone against the half-space under
+//! approach control at `n` depths `δ_k = δ_max (k/n)²` (dense near contact
+//! onset, where `P ∝ δ^{3/2}` bends most), each warm-started from the
+//! previous pressure, and records the force `F_k` and the contact area `A_k`.
+//! The law interpolates `F(δ)` and `A(δ)` by monotone cubic Hermite
+//! interpolation (core PCHIP, Fritsch–Butland slopes), so that
+//! `P = F(δ)` and `k = dF/dδ` are exactly the interpolant and its derivative,
+//! and the local contact radius is `√(A(δ)/π)`. Beyond `δ_max` both continue
+//! linearly with their last slope (continuous, non-decreasing; a range
+//! chosen from the solve's own approach never needs it).
+//!
+//! Tables are cached by shape: the key hashes the quantised patch heights
+//! (to [`HEIGHT_QUANTUM`]), the grid, `δ_max`, `E*`, the node count and the
+//! tolerance, so identical caps (the same chipping repeated, a sphere field)
+//! are solved once per [`Calibrator`]; optionally also on disk, one small
+//! CSV per shape.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use tyreroad_bem::{BemOptions, Control, Grid, HeightMap, Par, Solver};
+use tyreroad_contact_law::{ContactLaw, LawPoint, LocalContact, Material, PressureProfile};
+use tyreroad_core::pchip::{PchipRule, pchip_slopes};
+
+use super::FidelityError;
+
+/// Heights are quantised to this step (m) before hashing: caps equal to
+/// 1 nm share a table.
+pub const HEIGHT_QUANTUM: f64 = 1e-9;
+
+/// The rigid surface of one asperity: `nx × ny` cells of `dx × dy`,
+/// row-major heights (m) relative to the law's summit (all `≤ 0`; the top
+/// cell may sit below 0 when the summit was refined between cells).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CapPatch {
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+    /// Cell size along x (m).
+    pub dx: f64,
+    /// Cell size along y (m).
+    pub dy: f64,
+    /// Heights (m), `ny` rows of `nx`, all finite and `≤ 0`.
+    pub heights: Vec<f64>,
+}
+
+impl CapPatch {
+    /// A patch sampled from `height(x, y)` (m, relative to the summit) at
+    /// the centres of an `n × n` grid of cell `cell`, centred on the origin.
+    ///
+    /// # Errors
+    /// As [`CapPatch::validate`].
+    pub fn from_fn(
+        n: usize,
+        cell: f64,
+        height: impl Fn(f64, f64) -> f64,
+    ) -> Result<Self, FidelityError> {
+        let c = 0.5 * (n as f64 - 1.0);
+        let heights = (0..n * n)
+            .map(|k| height(((k % n) as f64 - c) * cell, ((k / n) as f64 - c) * cell))
+            .collect();
+        let p = Self {
+            nx: n,
+            ny: n,
+            dx: cell,
+            dy: cell,
+            heights,
+        };
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// Checks sizes and values.
+    ///
+    /// # Errors
+    /// [`FidelityError::InvalidInput`] naming the value: fewer than 3 cells
+    /// a side, a non-positive spacing, a height count that does not match,
+    /// a non-finite or positive height.
+    pub fn validate(&self) -> Result<(), FidelityError> {
+        if self.nx < 3 || self.ny < 3 {
+            return Err(FidelityError::invalid(
+                "cap patch size",
+                format!("{} × {}", self.nx, self.ny),
+                "at least 3 × 3 cells",
+            ));
+        }
+        for (name, v) in [("dx", self.dx), ("dy", self.dy)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(FidelityError::invalid(name, v, "finite and > 0 m"));
+            }
+        }
+        if self.heights.len() != self.nx * self.ny {
+            return Err(FidelityError::invalid(
+                "cap patch heights",
+                self.heights.len(),
+                format!("{} values", self.nx * self.ny),
+            ));
+        }
+        if let Some(h) = self.heights.iter().find(|h| !(h.is_finite() && **h <= 0.0)) {
+            return Err(FidelityError::invalid(
+                "cap patch height",
+                h,
+                "finite and <= 0 m (relative to the summit)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Depth of the highest cell below the summit (m, ≥ 0).
+    pub fn summit_offset(&self) -> f64 {
+        -self
+            .heights
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+/// How the calibration solves are run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CalibrationOptions {
+    /// Number of BEM depths per table (≥ 4). Default 16.
+    pub nodes: usize,
+    /// BEM tolerance (relative complementarity residual). Default 1e-8.
+    pub tolerance: f64,
+}
+
+impl Default for CalibrationOptions {
+    fn default() -> Self {
+        Self {
+            nodes: 16,
+            tolerance: 1e-8,
+        }
+    }
+}
+
+/// A tabulated force–indentation law and contact area, from BEM solves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibratedTable {
+    depth: Vec<f64>,
+    force: Vec<f64>,
+    force_slope: Vec<f64>,
+    area: Vec<f64>,
+    area_slope: Vec<f64>,
+    /// Whether the BEM contact reached the patch's border at `δ_max` (the
+    /// patch was too small for the range: the table is then stiffer than
+    /// the real cap at the largest depths).
+    pub reached_border: bool,
+}
+
+impl CalibratedTable {
+    fn from_knots(
+        depth: Vec<f64>,
+        mut force: Vec<f64>,
+        mut area: Vec<f64>,
+        reached_border: bool,
+    ) -> Self {
+        // The BEM's forces and areas grow with the approach up to its
+        // tolerance; a running maximum removes the round-off so the law
+        // keeps its invariant (non-decreasing).
+        for v in [&mut force, &mut area] {
+            for k in 1..v.len() {
+                v[k] = v[k].max(v[k - 1]);
+            }
+        }
+        let force_slope = pchip_slopes(&depth, &force, PchipRule::HarmonicMean);
+        let area_slope = pchip_slopes(&depth, &area, PchipRule::HarmonicMean);
+        Self {
+            depth,
+            force,
+            force_slope,
+            area,
+            area_slope,
+            reached_border,
+        }
+    }
+
+    /// The table's knots `(δ, F, A)`.
+    pub fn knots(&self) -> impl Iterator<Item = (f64, f64, f64)> + '_ {
+        (0..self.depth.len()).map(|k| (self.depth[k], self.force[k], self.area[k]))
+    }
+
+    /// The largest tabulated depth (m).
+    pub fn max_depth(&self) -> f64 {
+        self.depth.last().copied().unwrap_or(0.0)
+    }
+
+    /// Force (N) and its slope (N/m) at `depth`.
+    pub fn force_at(&self, depth: f64) -> (f64, f64) {
+        hermite(&self.depth, &self.force, &self.force_slope, depth)
+    }
+
+    /// Contact area (m²) at `depth`.
+    pub fn area_at(&self, depth: f64) -> f64 {
+        hermite(&self.depth, &self.area, &self.area_slope, depth).0
+    }
+}
+
+/// The monotone cubic through the knots and its derivative at `x`; zero
+/// below the first knot, linear with the last slope beyond the last.
+fn hermite(xs: &[f64], ys: &[f64], ds: &[f64], x: f64) -> (f64, f64) {
+    let n = xs.len();
+    if n == 0 || !(x > xs[0]) {
+        return (0.0, 0.0);
+    }
+    if x >= xs[n - 1] {
+        return (ys[n - 1] + ds[n - 1] * (x - xs[n - 1]), ds[n - 1]);
+    }
+    let k = xs.partition_point(|&v| v <= x) - 1;
+    let h = xs[k + 1] - xs[k];
+    let t = (x - xs[k]) / h;
+    let (t2, t3) = (t * t, t * t * t);
+    let (h00, h10, h01, h11) = (
+        2.0 * t3 - 3.0 * t2 + 1.0,
+        t3 - 2.0 * t2 + t,
+        -2.0 * t3 + 3.0 * t2,
+        t3 - t2,
+    );
+    let value = h00 * ys[k] + h10 * h * ds[k] + h01 * ys[k + 1] + h11 * h * ds[k + 1];
+    let (d00, d10, d01, d11) = (
+        6.0 * t2 - 6.0 * t,
+        3.0 * t2 - 4.0 * t + 1.0,
+        -6.0 * t2 + 6.0 * t,
+        3.0 * t2 - 2.0 * t,
+    );
+    let slope = (d00 * ys[k] + d01 * ys[k + 1]) / h + d10 * ds[k] + d11 * ds[k + 1];
+    (value, slope)
+}
+
+/// A calibrated law: [`ContactLaw`] over a shared [`CalibratedTable`].
+#[derive(Clone, Debug)]
+pub struct CalibratedLaw {
+    table: Arc<CalibratedTable>,
+}
+
+impl CalibratedLaw {
+    /// The law over `table`.
+    pub fn new(table: Arc<CalibratedTable>) -> Self {
+        Self { table }
+    }
+
+    /// Its table.
+    pub fn table(&self) -> &CalibratedTable {
+        &self.table
+    }
+
+    /// The depth (m) at which the law carries `force` (bisection on the
+    /// monotone interpolant), 0 for a force ≤ 0.
+    pub fn depth_for(&self, force: f64) -> f64 {
+        if !(force > 0.0) {
+            return 0.0;
+        }
+        let (mut lo, mut hi) = (0.0, self.table.max_depth().max(1e-12));
+        while self.table.force_at(hi).0 < force {
+            lo = hi;
+            hi *= 2.0;
+            if hi > 1.0 {
+                return f64::NAN;
+            }
+        }
+        for _ in 0..80 {
+            let mid = 0.5 * (lo + hi);
+            if self.table.force_at(mid).0 < force {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+}
+
+impl ContactLaw for CalibratedLaw {
+    fn evaluate(&self, depth: f64) -> LawPoint {
+        if !(depth > 0.0) {
+            return LawPoint::default();
+        }
+        let (force, stiffness) = self.table.force_at(depth);
+        LawPoint {
+            force: force.max(0.0),
+            stiffness: stiffness.max(0.0),
+        }
+    }
+
+    fn local_contact(&self, force: f64, depth: f64) -> LocalContact {
+        if !(force > 0.0 && depth > 0.0) {
+            return LocalContact::NONE;
+        }
+        LocalContact {
+            force,
+            radius: (self.table.area_at(depth).max(0.0) / std::f64::consts::PI).sqrt(),
+            profile: PressureProfile::Hertz,
+        }
+    }
+}
+
+/// Solves the BEM on `patch` at depths up to `max_depth` (m, from the
+/// summit) and tabulates the law.
+///
+/// # Errors
+/// [`FidelityError::InvalidInput`] for an invalid patch, options, or a
+/// `max_depth` not beyond the patch's [`CapPatch::summit_offset`];
+/// [`FidelityError::Bem`] if a BEM solve fails.
+pub fn calibrate(
+    patch: &CapPatch,
+    max_depth: f64,
+    material: &Material,
+    options: &CalibrationOptions,
+) -> Result<CalibratedTable, FidelityError> {
+    patch.validate()?;
+    if options.nodes < 4 {
+        return Err(FidelityError::invalid(
+            "calibration nodes",
+            options.nodes,
+            ">= 4",
+        ));
+    }
+    let offset = patch.summit_offset();
+    if !(max_depth.is_finite() && max_depth > offset) {
+        return Err(FidelityError::invalid(
+            "calibration depth",
+            max_depth,
+            format!("finite and beyond the highest cell ({offset} m below the summit)"),
+        ));
+    }
+    let bem = |context: &'static str| move |source| FidelityError::Bem { context, source };
+    let grid = Grid::new(patch.nx, patch.ny, patch.dx, patch.dy)
+        .map_err(|e| FidelityError::invalid("cap patch grid", e, "a valid grid"))?;
+    let surface = HeightMap::new(grid.clone(), patch.heights.clone())
+        .map_err(|e| FidelityError::invalid("cap patch heights", e, "a valid field"))?;
+    // One patch is small: its FFTs run serially, and callers calibrate many
+    // patches in parallel.
+    let bem_options = BemOptions {
+        tolerance: options.tolerance,
+        par: Par::Seq,
+        ..BemOptions::default()
+    };
+    let mut solver = Solver::new(&grid, material, &bem_options).map_err(bem("BEM set-up"))?;
+    let range = max_depth - offset;
+    let n = options.nodes;
+    let mut depth = vec![0.0];
+    let mut force = vec![0.0];
+    let mut area = vec![0.0];
+    if offset > 0.0 {
+        depth.push(offset);
+        force.push(0.0);
+        area.push(0.0);
+    }
+    let mut previous: Option<Vec<f64>> = None;
+    let mut reached_border = false;
+    for k in 1..=n {
+        let approach = range * (k as f64 / n as f64).powi(2);
+        let control = Control::Approach(approach);
+        let sol = match &previous {
+            Some(p) => solver.solve_from(&surface, control, p),
+            None => solver.solve(&surface, control),
+        }
+        .map_err(bem("BEM calibration solve"))?;
+        depth.push(offset + approach);
+        force.push(sol.force);
+        area.push(sol.contact_area);
+        if k == n {
+            reached_border = touches_border(&sol.pressure, patch.nx, patch.ny);
+        }
+        previous = Some(sol.pressure);
+    }
+    Ok(CalibratedTable::from_knots(
+        depth,
+        force,
+        area,
+        reached_border,
+    ))
+}
+
+fn touches_border(pressure: &[f64], nx: usize, ny: usize) -> bool {
+    (0..nx * ny).any(|c| {
+        let (i, j) = (c % nx, c / nx);
+        pressure[c] > 0.0 && (i == 0 || j == 0 || i == nx - 1 || j == ny - 1)
+    })
+}
+
+/// 64-bit FNV-1a: stable across builds, so a disk cache survives a
+/// toolchain change (std's hasher does not promise that).
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= u64::from(x);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+    fn quantised(&mut self, v: f64) {
+        self.u64((v / HEIGHT_QUANTUM).round() as i64 as u64);
+    }
+}
+
+type Slot = Arc<Mutex<Option<Arc<CalibratedTable>>>>;
+
+/// Calibrates laws and caches their tables by shape.
+#[derive(Debug)]
+pub struct Calibrator {
+    material: Material,
+    options: CalibrationOptions,
+    /// One slot per shape; a slot stays locked while its shape is being
+    /// solved, so two workers asking for the same cap solve it once.
+    memory: Mutex<HashMap<u64, Slot>>,
+    disk: Option<PathBuf>,
+    counts: Mutex<CacheCounts>,
+}
+
+/// How often the cache answered.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheCounts {
+    /// Tables solved by the BEM.
+    pub solved: usize,
+    /// Tables found in memory.
+    pub memory_hits: usize,
+    /// Tables read from the disk cache.
+    pub disk_hits: usize,
+}
+
+impl Calibrator {
+    /// A calibrator with an in-memory cache.
+    pub fn new(material: Material, options: CalibrationOptions) -> Self {
+        Self {
+            material,
+            options,
+            memory: Mutex::new(HashMap::new()),
+            disk: None,
+            counts: Mutex::new(CacheCounts::default()),
+        }
+    }
+
+    /// Also keeps tables on disk under `dir` (created on first write).
+    pub fn with_disk_cache(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.disk = Some(dir.into());
+        self
+    }
+
+    /// The material.
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// The cache's counts so far.
+    pub fn counts(&self) -> CacheCounts {
+        *self.counts.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn key(&self, patch: &CapPatch, max_depth: f64) -> u64 {
+        let mut h = Fnv::new();
+        h.u64(patch.nx as u64);
+        h.u64(patch.ny as u64);
+        h.u64(patch.dx.to_bits());
+        h.u64(patch.dy.to_bits());
+        h.quantised(max_depth);
+        h.u64(self.material.reduced_modulus().to_bits());
+        h.u64(self.options.nodes as u64);
+        h.u64(self.options.tolerance.to_bits());
+        for &z in &patch.heights {
+            h.quantised(z);
+        }
+        h.0
+    }
+
+    /// The law of `patch` over depths up to `max_depth` (m): from the cache
+    /// when the same shape was calibrated before, else by [`calibrate`].
+    ///
+    /// # Errors
+    /// As [`calibrate`]; [`FidelityError::Cache`] if the disk cache cannot
+    /// be written (a file that cannot be read is solved again).
+    pub fn law(&self, patch: &CapPatch, max_depth: f64) -> Result<CalibratedLaw, FidelityError> {
+        patch.validate()?;
+        let key = self.key(patch, max_depth);
+        let slot: Slot = Arc::clone(
+            self.memory
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .entry(key)
+                .or_default(),
+        );
+        let mut slot = slot.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = slot.as_ref() {
+            self.count(|c| c.memory_hits += 1);
+            return Ok(CalibratedLaw::new(Arc::clone(t)));
+        }
+        let file = self
+            .disk
+            .as_ref()
+            .map(|d| d.join(format!("calib-{key:016x}.csv")));
+        let table = match file.as_deref().and_then(read_table) {
+            Some(t) => {
+                self.count(|c| c.disk_hits += 1);
+                t
+            }
+            None => {
+                let t = calibrate(patch, max_depth, &self.material, &self.options)?;
+                self.count(|c| c.solved += 1);
+                if let Some(f) = &file {
+                    write_table(f, &t)?;
+                }
+                t
+            }
+        };
+        let table = Arc::new(table);
+        *slot = Some(Arc::clone(&table));
+        Ok(CalibratedLaw::new(table))
+    }
+
+    fn count(&self, f: impl FnOnce(&mut CacheCounts)) {
+        f(&mut self.counts.lock().unwrap_or_else(|e| e.into_inner()));
+    }
+}
+
+fn write_table(file: &Path, t: &CalibratedTable) -> Result<(), FidelityError> {
+    let io = |source| FidelityError::Cache {
+        path: file.to_path_buf(),
+        source,
+    };
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    let mut text = format!(
+        "depth_m,force_n,area_m2,reached_border={}\n",
+        t.reached_border
+    );
+    for (d, f, a) in t.knots() {
+        text.push_str(&format!("{d:e},{f:e},{a:e}\n"));
+    }
+    // Written beside and renamed: a reader never sees half a table.
+    let partial = file.with_extension("partial");
+    std::fs::write(&partial, text).map_err(io)?;
+    std::fs::rename(&partial, file).map_err(io)
+}
+
+/// A cached table, or `None` if it is missing or malformed (then solved
+/// again: the cache is a convenience, never an input).
+fn read_table(file: &Path) -> Option<CalibratedTable> {
+    let text = std::fs::read_to_string(file).ok()?;
+    let mut lines = text.lines();
+    let reached_border = lines.next()?.ends_with("reached_border=true");
+    let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
+    for line in lines {
+        let mut it = line.split(',').map(|s| s.parse::<f64>());
+        let (Some(Ok(x)), Some(Ok(y)), Some(Ok(z)), None) =
+            (it.next(), it.next(), it.next(), it.next())
+        else {
+            return None;
+        };
+        if !(x.is_finite() && y.is_finite() && z.is_finite()) || d.last().is_some_and(|&l| x <= l) {
+            return None;
+        }
+        d.push(x);
+        f.push(y);
+        a.push(z);
+    }
+    (d.len() >= 2).then(|| CalibratedTable::from_knots(d, f, a, reached_border))
+}

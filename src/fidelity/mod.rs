@@ -1,0 +1,177 @@
+//! The ladder of fidelity (issue 15): which contact laws and which coupling
+//! the multipoint model uses on a texture, and how far each choice lands
+//! from the full BEM.
+//!
+//! Rungs ([`Fidelity`]), each mapped to a law source and solver options in
+//! one place, [`Fidelity::rung`]:
+//!
+//! - `wilke`: the paper's interaction-potential law `P = dU/dδ` from each
+//!   segmented cap's measures with the constant `c` (docs/theory.md §1),
+//!   point (Boussinesq) coupling `T_ij = 1/(π E* r_ij)` (§3). Today's model.
+//! - `calibrated`: each asperity's law `P(δ)` from a single-asperity BEM
+//!   solve of its own cap (the texture's heights on its segmentation basin,
+//!   [`calibrate`]), point coupling. The law is then exact for the asperity
+//!   alone up to the BEM's discretisation; what remains of the error is the
+//!   interaction's.
+//! - `distributed`: near pairs coupled through their pressure fields (built
+//!   in `tyreroad-multipoint` by another change); parsed, but refused with
+//!   [`FidelityError::NotYetAvailable`] until it is wired here.
+//!
+//! Invariants: a calibrated law keeps the [`crate::contact_law::ContactLaw`]
+//! contract (`P = k = 0` for `δ ≤ 0`, `P` continuous and non-decreasing,
+//! `k = dP/dδ` of the interpolant); equal caps share one table.
+
+mod calibrate;
+pub mod compare;
+mod texture;
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use calibrate::{
+    CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, Calibrator, CapPatch,
+    HEIGHT_QUANTUM, calibrate,
+};
+pub use texture::{calibrated_set, cap_patch};
+
+use crate::multipoint::SolverOptions;
+
+/// Errors of the fidelity module.
+#[derive(Debug, thiserror::Error)]
+pub enum FidelityError {
+    /// A value out of its range.
+    #[error("invalid {key}: {value} (expected {expected})")]
+    InvalidInput {
+        /// What was given.
+        key: &'static str,
+        /// Its value.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+    /// An unknown fidelity name.
+    #[error("unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed)")]
+    UnknownFidelity(String),
+    /// A rung that is parsed but not built yet.
+    #[error(
+        "fidelity `{0}` is not yet available (the distributed interaction is being built in \
+         tyreroad-multipoint); use `wilke` or `calibrated`"
+    )]
+    NotYetAvailable(Fidelity),
+    /// A BEM solve failed.
+    #[error("{context}: {source}")]
+    Bem {
+        /// Which solve.
+        context: &'static str,
+        /// The BEM's error.
+        source: crate::bem::BemError,
+    },
+    /// The disk cache could not be written.
+    #[error("calibration cache {}: {source}", path.display())]
+    Cache {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// A texture could not be turned into asperities.
+    #[error(transparent)]
+    TextureRoad(#[from] crate::texture_road::TextureRoadError),
+    /// A multipoint solve failed.
+    #[error("multipoint solve: {0}")]
+    Solve(#[from] crate::multipoint::SolveError),
+}
+
+impl FidelityError {
+    fn invalid(key: &'static str, value: impl fmt::Display, expected: impl fmt::Display) -> Self {
+        Self::InvalidInput {
+            key,
+            value: value.to_string(),
+            expected: expected.to_string(),
+        }
+    }
+}
+
+/// A rung of the ladder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fidelity {
+    /// Wilke–Sameur potential laws, point coupling (the default).
+    Wilke,
+    /// BEM-calibrated laws, point coupling.
+    Calibrated,
+    /// Distributed near-pair coupling (not yet available here).
+    Distributed,
+}
+
+/// Every rung, in ladder order: the validation harness runs this list.
+pub const RUNGS: [Fidelity; 3] = [Fidelity::Wilke, Fidelity::Calibrated, Fidelity::Distributed];
+
+/// Where a rung's laws come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LawSource {
+    /// The potential law of each cap (`crate::texture_road`).
+    Potential,
+    /// A BEM-calibrated table per cap ([`Calibrator`]).
+    Calibrated,
+}
+
+/// What a rung runs: its laws and its solver options.
+#[derive(Clone, Debug)]
+pub struct Rung {
+    /// The rung.
+    pub fidelity: Fidelity,
+    /// Where its laws come from.
+    pub laws: LawSource,
+    /// Its solver options.
+    pub solver: SolverOptions,
+}
+
+impl Fidelity {
+    /// The name used in scenario files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Wilke => "wilke",
+            Self::Calibrated => "calibrated",
+            Self::Distributed => "distributed",
+        }
+    }
+
+    /// The one place where a rung becomes (law source, solver options),
+    /// starting from the caller's `base` options.
+    ///
+    /// # Errors
+    /// [`FidelityError::NotYetAvailable`] for [`Fidelity::Distributed`].
+    pub fn rung(self, base: &SolverOptions) -> Result<Rung, FidelityError> {
+        let laws = match self {
+            Self::Wilke => LawSource::Potential,
+            Self::Calibrated => LawSource::Calibrated,
+            // Wired after the merge: calibrated laws with
+            // `SolverOptions::interaction = Interaction::Distributed { .. }`.
+            Self::Distributed => return Err(FidelityError::NotYetAvailable(self)),
+        };
+        Ok(Rung {
+            fidelity: self,
+            laws,
+            solver: *base,
+        })
+    }
+}
+
+impl fmt::Display for Fidelity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Fidelity {
+    type Err = FidelityError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        RUNGS
+            .into_iter()
+            .find(|r| r.name() == s)
+            .ok_or_else(|| FidelityError::UnknownFidelity(s.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests;

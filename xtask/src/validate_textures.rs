@@ -1,0 +1,244 @@
+//! `cargo xtask validate --textures`: every rung of the fidelity ladder
+//! against the full BEM on seven road kinds at three loads
+//! (`tyreroad::fidelity::compare`, docs/validation.md "Fidelity on
+//! textures"), with the BEM's own resolution convergence shown once.
+//!
+//! The road kinds are data ([`KINDS`]): `[texture.synth]` text as a user
+//! writes it, read through the scenario library, so the harness builds the
+//! same surfaces as `cargo xtask run`.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use tyreroad::fidelity::compare::{
+    BLOCKS, CompareOptions, RungLoad, TextureComparison, bem_resolution, compare_texture,
+};
+use tyreroad::fidelity::{CalibrationOptions, RUNGS};
+use tyreroad::multipoint::SolverOptions;
+use tyreroad::scenario::Scenario;
+use tyreroad::scenario::output::OutputSet;
+
+use crate::validate::ValidateArgs;
+
+/// Targets of issue 15 for the best rung: approach, area, 10 mm block,
+/// 5 mm block (fractions), and the cost ratio.
+const TARGETS: [f64; 4] = [0.02, 0.03, 0.03, 0.05];
+const COST_TARGET: f64 = 100.0;
+
+/// Loads (N) of every case (the issue's).
+const LOADS: [f64; 3] = [50.0, 150.0, 300.0];
+
+/// (label, `[texture.synth]` body without the grid: kind, seed, extras).
+const KINDS: [(&str, &str); 7] = [
+    (
+        "self-affine H 0.6",
+        "kind = \"self_affine\"\nseed = 6\nrms = \"0.4 mm\"\nhurst = 0.6\nlambda_long = \"20 mm\"\nlambda_short = \"0.5 mm\"\n",
+    ),
+    (
+        "self-affine H 0.8",
+        "kind = \"self_affine\"\nseed = 8\nrms = \"0.4 mm\"\nhurst = 0.8\nlambda_long = \"20 mm\"\nlambda_short = \"0.5 mm\"\n",
+    ),
+    ("chip seal", "kind = \"worn_chip_seal\"\nseed = 19\n"),
+    (
+        "dense asphalt",
+        "kind = \"aggregate\"\nseed = 2006\ngrading = \"4/6\"\ncoverage = 1.3\nembedding = [0.6, 0.8]\n",
+    ),
+    ("porous asphalt", "kind = \"porous_asphalt\"\nseed = 18\n"),
+    (
+        "exposed aggregate",
+        "kind = \"exposed_aggregate\"\nseed = 17\n",
+    ),
+    (
+        "tined concrete",
+        "kind = \"transverse_tining\"\nseed = 14\n",
+    ),
+];
+
+/// The label of the kind whose BEM resolution convergence is shown.
+const RESOLUTION_KIND: &str = "chip seal";
+
+fn scenario(label: &str, body: &str, cells: usize, spacing_mm: f64) -> Result<Scenario> {
+    let text = format!(
+        "name = \"fidelity\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+         [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
+         [texture.synth]\nnx = {cells}\nny = {cells}\nspacing = \"{spacing_mm} mm\"\n{body}"
+    );
+    Scenario::parse(&text, label).with_context(|| format!("road kind `{label}`"))
+}
+
+fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:+.1} %", 100.0 * v)
+    } else {
+        "—".into()
+    }
+}
+
+/// Runs the texture validation; fails only if a case cannot be run at all
+/// (a rung's failed load is a row that says so).
+pub fn run(args: &ValidateArgs) -> Result<()> {
+    let cells = args.texture_cells;
+    if !(16..=2000).contains(&cells) {
+        bail!("--texture-cells {cells}: expected 16 to 2000");
+    }
+    let spacing_mm = 0.1;
+    let kinds: Vec<_> = KINDS
+        .iter()
+        .filter(|(label, _)| args.kind.as_deref().is_none_or(|k| k == *label))
+        .collect();
+    if kinds.is_empty() {
+        let known: Vec<&str> = KINDS.iter().map(|k| k.0).collect();
+        bail!("unknown --kind (known: {})", known.join(", "));
+    }
+    let options = CompareOptions {
+        loads: LOADS.to_vec(),
+        road: tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6),
+        calibration: CalibrationOptions::default(),
+        rungs: RUNGS.to_vec(),
+        solver: SolverOptions::default(),
+    };
+    let mut results = Vec::new();
+    let mut report = String::new();
+    for (label, body) in kinds {
+        let s = scenario(label, body, cells, spacing_mm)?;
+        let map = s
+            .texture
+            .as_ref()
+            .context("scenario without [texture]")?
+            .height_map(std::path::Path::new("."))?;
+        let material = s.material()?;
+        eprintln!("validate --textures: {label} ...");
+        let t = Instant::now();
+        let c = compare_texture(&map, material, &options)
+            .with_context(|| format!("road kind `{label}`"))?;
+        eprintln!(
+            "  {} asperities, {:.1} s",
+            c.asperities,
+            t.elapsed().as_secs_f64()
+        );
+        if *label == RESOLUTION_KIND && !args.no_resolution {
+            let rows = bem_resolution(&map, &material, LOADS[1])?;
+            writeln!(report, "\nBEM resolution, {label}, {} N:\n", LOADS[1])?;
+            writeln!(
+                report,
+                "| cell (mm) | approach (µm) | contact area (mm²) | wrong 10 mm block vs finest |"
+            )?;
+            writeln!(report, "|---|---|---|---|")?;
+            for (cell, d, a, w) in rows {
+                writeln!(
+                    report,
+                    "| {:.2} | {:.1} | {:.2} | {:.2} % |",
+                    cell * 1e3,
+                    d * 1e6,
+                    a * 1e6,
+                    100.0 * w
+                )?;
+            }
+        }
+        // Each road's rows as soon as they exist: a long run that is cut
+        // short still leaves its finished roads on the terminal.
+        print!("{}", tables(&[(label, c.clone())], cells, spacing_mm)?);
+        results.push((*label, c));
+    }
+    report.push_str(&tables(&results, cells, spacing_mm)?);
+    println!("\n== all roads ==");
+    print!("{report}");
+    let mut set = OutputSet::new(&args.out)?;
+    set.write("texture_fidelity.md", report.as_bytes())?;
+    crate::statics::print_written(&set.commit()?);
+    Ok(())
+}
+
+fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) -> Result<String> {
+    let mut out = String::new();
+    let side = cells as f64 * spacing_mm;
+    for (r, rung) in RUNGS.iter().enumerate() {
+        writeln!(
+            out,
+            "\nRung `{rung}` ({side:.0} × {side:.0} mm at {spacing_mm} mm; targets: approach {}, \
+             area {}, 10 mm block {}, 5 mm block {}, ≥ {COST_TARGET:.0}× cheaper):\n",
+            pct(TARGETS[0]),
+            pct(TARGETS[1]),
+            pct(TARGETS[2]),
+            pct(TARGETS[3])
+        )?;
+        writeln!(
+            out,
+            "| road | N | W (N) | approach | area | wrong asperity | wrong {:.0} mm block | wrong {:.0} mm block | model s | BEM s | BEM/model | set-up s |",
+            BLOCKS[0] * 1e3,
+            BLOCKS[1] * 1e3
+        )?;
+        writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+        for (label, c) in results {
+            let Some(res) = c.rungs.get(r) else { continue };
+            if let Some(why) = &res.unavailable {
+                writeln!(out, "| {label} | {} | — | {why} |", c.asperities)?;
+                continue;
+            }
+            for l in &res.loads {
+                match l {
+                    Ok(RungLoad {
+                        load,
+                        approach_error,
+                        area_error,
+                        wrong_asperity,
+                        wrong_block,
+                        seconds,
+                        bem_seconds,
+                    }) => writeln!(
+                        out,
+                        "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
+                        c.asperities,
+                        pct(*approach_error),
+                        pct(*area_error),
+                        100.0 * wrong_asperity,
+                        100.0 * wrong_block[0],
+                        100.0 * wrong_block[1],
+                        bem_seconds / seconds.max(1e-9),
+                        res.setup_seconds,
+                    )?,
+                    Err(e) => writeln!(out, "| {label} | {} | — | failed: {e} |", c.asperities)?,
+                }
+            }
+        }
+    }
+    writeln!(
+        out,
+        "\nWhere the error lives (load on the wrong asperity): `wilke` = Wilke laws + point \
+         interaction; `calibrated` = exact laws + point interaction (the interaction's share); \
+         law only = Wilke laws on the BEM's own load sharing (the law's share).\n"
+    )?;
+    writeln!(
+        out,
+        "| road | W (N) | wilke | calibrated | law only | calibration tables solved / reused |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|")?;
+    for (label, c) in results {
+        for (k, b) in c.bem.iter().enumerate() {
+            let at = |f: tyreroad::fidelity::Fidelity| {
+                c.rungs
+                    .iter()
+                    .find(|r| r.fidelity == f)
+                    .and_then(|r| r.loads.get(k))
+                    .and_then(|l| l.as_ref().ok())
+                    .map_or("—".to_string(), |l| {
+                        format!("{:.1} %", 100.0 * l.wrong_asperity)
+                    })
+            };
+            writeln!(
+                out,
+                "| {label} | {:.0} | {} | {} | {} | {} / {} |",
+                b.load,
+                at(tyreroad::fidelity::Fidelity::Wilke),
+                at(tyreroad::fidelity::Fidelity::Calibrated),
+                c.law_only
+                    .get(k)
+                    .map_or("—".into(), |v| format!("{:.1} %", 100.0 * v)),
+                c.cache.solved,
+                c.cache.memory_hits + c.cache.disk_hits,
+            )?;
+        }
+    }
+    Ok(out)
+}
