@@ -71,7 +71,10 @@ fn close_spheres_share_the_load_as_the_bem_says() {
         let (bem, point, distributed) = shares(separation);
         eprintln!("{separation:e}: bem {bem:.5} point {point:.5} distributed {distributed:.5}");
         assert!((point - bem).abs() < 1e-3, "point {point} vs BEM {bem}");
-        assert!((distributed - bem).abs() < 1e-3, "distributed {distributed} vs BEM {bem}");
+        assert!(
+            (distributed - bem).abs() < 1e-3,
+            "distributed {distributed} vs BEM {bem}"
+        );
         // The near pair is coupled more strongly than by the point kernel.
         assert!(distributed < point);
     }

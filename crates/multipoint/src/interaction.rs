@@ -207,16 +207,27 @@ mod tests {
         // ∫ p u dA = 0.8 P δ for Hertz: g(0; a, a) = 0.8 · 3π/(4a) = 0.6π/a.
         let a = 2e-3;
         let g = mutual_compliance(0.0, a, a);
-        assert!((g * a / (0.6 * PI) - 1.0).abs() < 2e-3, "{}", g * a / (0.6 * PI));
+        assert!(
+            (g * a / (0.6 * PI) - 1.0).abs() < 2e-3,
+            "{}",
+            g * a / (0.6 * PI)
+        );
     }
 
     #[test]
     fn mutual_compliance_matches_a_brute_force_double_integral() {
         let a = 1e-3;
-        for (r, ai, aj) in [(0.5 * a, a, 0.7 * a), (1.5 * a, a, a), (3.0 * a, 0.4 * a, a)] {
+        for (r, ai, aj) in [
+            (0.5 * a, a, 0.7 * a),
+            (1.5 * a, a, a),
+            (3.0 * a, 0.4 * a, a),
+        ] {
             let g = mutual_compliance(r, ai, aj);
             let b = brute(r, ai, aj, 24);
-            assert!((g - b).abs() < 5e-3 * b, "r {r:e} ai {ai:e} aj {aj:e}: {g} vs {b}");
+            assert!(
+                (g - b).abs() < 5e-3 * b,
+                "r {r:e} ai {ai:e} aj {aj:e}: {g} vs {b}"
+            );
         }
     }
 
@@ -233,7 +244,10 @@ mod tests {
             let leading = (ai * ai + aj * aj) / (10.0 * r * r);
             assert!(rel < previous, "not decreasing at {k}: {rel:e}");
             if k >= 4.0 {
-                assert!((rel - leading).abs() < 0.1 * leading, "{k}: {rel:e} vs {leading:e}");
+                assert!(
+                    (rel - leading).abs() < 0.1 * leading,
+                    "{k}: {rel:e} vs {leading:e}"
+                );
             }
             previous = rel;
         }

@@ -123,7 +123,9 @@ impl Solution {
         residual: f64,
         u: Vec<f64>,
     ) -> Self {
-        let mut s = Self::assemble(problem, forces, approach, iterations, load_steps, residual, u);
+        let mut s = Self::assemble(
+            problem, forces, approach, iterations, load_steps, residual, u,
+        );
         for (p, d) in s.forces.iter_mut().zip(&s.depths) {
             if !(*d > 0.0) || *p < 0.0 {
                 *p = 0.0;

@@ -68,7 +68,10 @@ fn dense_krylov_and_threads_agree_on_a_dense_layout() {
     };
     let a = solve(&problem, Control::Load(load), &dense).unwrap();
     let b = solve(&problem, Control::Load(load), &krylov).unwrap();
-    eprintln!("dense {:?} {:?} it {}; krylov {:?} {:?} it {}", a.convergence, a.recovery, a.iterations, b.convergence, b.recovery, b.iterations);
+    eprintln!(
+        "dense {:?} {:?} it {}; krylov {:?} {:?} it {}",
+        a.convergence, a.recovery, a.iterations, b.convergence, b.recovery, b.iterations
+    );
     assert_eq!(a.convergence, Convergence::Converged);
     assert_eq!(b.convergence, Convergence::Converged);
     for (p, q) in a.forces.iter().zip(&b.forces) {

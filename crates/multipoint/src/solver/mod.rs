@@ -26,11 +26,11 @@ use faer::Par;
 use crate::{
     Boussinesq, Convergence, FastBoussinesq, FastOptions, Problem, Recovery, Solution, SolveError,
 };
+use near::NearField;
 use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
 pub use options::{Control, Interaction, LinearSolver, SolverOptions};
 use options::{check_control, check_options, krylov_order, residual_options};
-use near::NearField;
 use start::{coarse_start, uncoupled_start};
 use state::{Ops, Workspace};
 
@@ -224,18 +224,13 @@ fn solve_attempts<L: ContactLaw + Sync>(
         problem, &op, control, &mut p, &mut delta, &mut d0, tol, options, &mut ws,
     )?;
     iterations += direct.iterations;
-    let finish = |ws: &mut Workspace,
-                  p: Vec<f64>,
-                  d0: f64,
-                  iterations,
-                  steps,
-                  residual: f64,
-                  recovery| {
-        let u = displacements(problem, &op, ws.near.as_mut(), &p, d0, par);
-        let mut s = Solution::finish(problem, p, d0, iterations, steps, residual, u);
-        s.recovery = recovery;
-        s
-    };
+    let finish =
+        |ws: &mut Workspace, p: Vec<f64>, d0: f64, iterations, steps, residual: f64, recovery| {
+            let u = displacements(problem, &op, ws.near.as_mut(), &p, d0, par);
+            let mut s = Solution::finish(problem, p, d0, iterations, steps, residual, u);
+            s.recovery = recovery;
+            s
+        };
     if direct.converged {
         return Ok(finish(
             &mut ws,

@@ -42,7 +42,11 @@ pub(super) struct NearField {
 
 impl NearField {
     /// The correction for `interaction`, or `None` for the point kernel.
-    pub(super) fn new(interaction: Interaction, positions: &[[f64; 2]], factor: f64) -> Option<Self> {
+    pub(super) fn new(
+        interaction: Interaction,
+        positions: &[[f64; 2]],
+        factor: f64,
+    ) -> Option<Self> {
         let Interaction::Distributed { near_factor } = interaction else {
             return None;
         };
