@@ -20,12 +20,12 @@ use crate::{Boussinesq, FastBoussinesq};
 
 /// The interaction product in use: exact (`O(N · nnz)`) or fast multipole.
 #[derive(Clone, Copy)]
-pub(crate) enum Interaction<'a> {
+pub(crate) enum Operator<'a> {
     Exact(Boussinesq<'a>),
     Fast(&'a FastBoussinesq),
 }
 
-impl Interaction<'_> {
+impl Operator<'_> {
     pub(crate) fn apply(&self, x: &[f64], out: &mut [f64], par: Par) {
         match self {
             Self::Exact(op) => op.apply(x, out, par),
@@ -43,11 +43,14 @@ pub(crate) struct KrylovStats {
 
 /// The restricted operator `y = x/k + (T x̃)_A` on the active set.
 pub(crate) struct ActiveOperator<'a> {
-    pub(crate) op: Interaction<'a>,
+    pub(crate) op: Operator<'a>,
     pub(crate) active: &'a [usize],
     pub(crate) stiffness: &'a [f64],
     pub(crate) n: usize,
     pub(crate) par: Par,
+    /// The distributed interaction's near-pair corrections `(i, j, C_ij)`
+    /// (each unordered pair once), added to `T`; empty for the point kernel.
+    pub(crate) near_pairs: &'a [(usize, usize, f64)],
 }
 
 impl ActiveOperator<'_> {
@@ -57,6 +60,10 @@ impl ActiveOperator<'_> {
             full[i] = x[a];
         }
         self.op.apply(&full[..self.n], &mut out[..self.n], self.par);
+        for &(i, j, c) in self.near_pairs {
+            out[i] += c * full[j];
+            out[j] += c * full[i];
+        }
         for (a, &i) in self.active.iter().enumerate() {
             y[a] = x[a] / self.stiffness[i] + out[i];
         }

@@ -14,6 +14,22 @@
 //! `Σ P_i = W` ([`Control::Load`], `δ0` unknown). An asperity with `δ_i ≤ 0`
 //! carries no force.
 //!
+//! With [`Interaction::Distributed`] ([`SolverOptions::interaction`]), pairs
+//! closer than `2c (a_i + a_j)` (`a` the radii of the laws' local contacts
+//! at the current state) couple instead through the mutual compliance of
+//! their Hertz pressure distributions, blended into the point kernel
+//! between `c` and `2c`:
+//!
+//! ```text
+//! T_ij = f [ b g(r_ij; a_i, a_j) + (1 − b) / r_ij ],   f = (1 − ν²)/(π E),
+//! g = ∫∫ q_i q_j / |x − y|   (symmetric, bounded, → 1/r as r/a grows)
+//! ```
+//!
+//! ([`mutual_compliance`]); the radii are re-evaluated at every residual and
+//! the Jacobian omits their derivative (docs/theory.md §3). It bounds the
+//! coupling of very close pairs but does not make `diag(1/k) + T_AA`
+//! definite where patches overlap by more than about 0.6 of their radius.
+//!
 //! # Method
 //!
 //! Newton–Raphson whose iterate is the set of local interpenetrations `δ_i`
@@ -132,10 +148,10 @@ mod solver;
 
 pub use asperity_set::AsperitySet;
 pub use fast::{FastBoussinesq, FastOptions};
-pub use interaction::Boussinesq;
+pub use interaction::{Boussinesq, hertz_potential, mutual_compliance};
 pub use problem::Problem;
 pub use solution::{Convergence, Recovery, Solution, overlapping_contacts, pressure_map};
-pub use solver::{Control, LinearSolver, SolverOptions, solve, solve_from};
+pub use solver::{Control, Interaction, LinearSolver, SolverOptions, solve, solve_from};
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_core::Par;
 pub use tyreroad_core::{Field, Grid};

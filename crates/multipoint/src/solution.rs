@@ -1,9 +1,8 @@
 //! The solved state, and what is rebuilt from it: local contacts and maps.
 
 use tyreroad_contact_law::{ContactLaw, LocalContact};
-use tyreroad_core::{Field, Grid, Par};
+use tyreroad_core::{Field, Grid};
 
-use crate::krylov::Interaction;
 use crate::{Problem, SolveError};
 
 /// How a returned solution met its convergence test (docs/theory.md §3).
@@ -68,7 +67,8 @@ pub struct Solution {
 }
 
 impl Solution {
-    #[allow(clippy::too_many_arguments)]
+    /// The solution with forces `forces` and their interaction
+    /// displacements `u` (the depths are `δ0 − H − u`).
     pub(crate) fn assemble<L: ContactLaw>(
         problem: &Problem<L>,
         forces: Vec<f64>,
@@ -76,11 +76,8 @@ impl Solution {
         iterations: usize,
         load_steps: usize,
         residual: f64,
-        interaction: Interaction<'_>,
-        par: Par,
+        u: Vec<f64>,
     ) -> Self {
-        let mut u = vec![0.0; forces.len()];
-        interaction.apply(&forces, &mut u, par);
         let depths = problem
             .gaps()
             .iter()
@@ -124,18 +121,10 @@ impl Solution {
         iterations: usize,
         load_steps: usize,
         residual: f64,
-        interaction: Interaction<'_>,
-        par: Par,
+        u: Vec<f64>,
     ) -> Self {
         let mut s = Self::assemble(
-            problem,
-            forces,
-            approach,
-            iterations,
-            load_steps,
-            residual,
-            interaction,
-            par,
+            problem, forces, approach, iterations, load_steps, residual, u,
         );
         for (p, d) in s.forces.iter_mut().zip(&s.depths) {
             if !(*d > 0.0) || *p < 0.0 {

@@ -7,6 +7,7 @@ use faer::linalg::lu::partial_pivoting as lu;
 use faer::{Mat, MatMut, Par};
 
 use super::krylov_step::krylov_step;
+use super::near::NearField;
 use super::options::{Control, LinearSolver, SolverOptions};
 use super::state::{Ops, Workspace};
 use crate::{Boussinesq, SolveError};
@@ -88,6 +89,29 @@ pub(super) fn newton_step(
             ws.rhs[(a, 1)] = 1.0;
         }
     }
+    if let Some(near) = &ws.near {
+        for (a, &i) in ws.active.iter().enumerate() {
+            ws.slot[i] = a;
+        }
+        let moving_step = |j: usize| {
+            if ws.stiffness[j] <= 0.0 {
+                ws.step[j]
+            } else {
+                0.0
+            }
+        };
+        for &(i, j, c) in &near.pairs {
+            if ws.slot[i] != usize::MAX {
+                ws.rhs[(ws.slot[i], 0)] -= c * moving_step(j);
+            }
+            if ws.slot[j] != usize::MAX {
+                ws.rhs[(ws.slot[j], 0)] -= c * moving_step(i);
+            }
+        }
+        for &i in &ws.active {
+            ws.slot[i] = usize::MAX;
+        }
+    }
     solve_active(&op.exact, ws, na, ncols, par);
     let d0_step = match load {
         Some(w) => {
@@ -131,7 +155,14 @@ pub(super) fn solve_active(
             .or(lu::solve::solve_in_place_scratch::<usize, f64>(na, 2, par));
         ws.stack = MemBuffer::new(llt_req.or(lu_req));
     }
-    fill_matrix(op, &ws.active, &ws.stiffness, &mut ws.matrix);
+    fill_matrix(
+        op,
+        &ws.active,
+        &ws.stiffness,
+        ws.near.as_ref(),
+        &mut ws.slot,
+        &mut ws.matrix,
+    );
     let stack = MemStack::new(&mut ws.stack);
     let factored = {
         let a = ws.matrix.as_mut().submatrix_mut(0, 0, na, na);
@@ -144,7 +175,14 @@ pub(super) fn solve_active(
         llt::solve::solve_in_place(l, rhs, par, stack);
         return;
     }
-    fill_matrix(op, &ws.active, &ws.stiffness, &mut ws.matrix);
+    fill_matrix(
+        op,
+        &ws.active,
+        &ws.stiffness,
+        ws.near.as_ref(),
+        &mut ws.slot,
+        &mut ws.matrix,
+    );
     let a: MatMut<'_, f64> = ws.matrix.as_mut().submatrix_mut(0, 0, na, na);
     let (_, perm) = lu::factor::lu_in_place(
         a,
@@ -165,10 +203,14 @@ pub(super) fn solve_active(
     );
 }
 
+/// The active matrix `diag(1/k_A) + T_AA` (plus the near pairs' `C_AA`
+/// under the distributed interaction) into `ws.matrix`.
 pub(super) fn fill_matrix(
     op: &Boussinesq<'_>,
     active: &[usize],
     stiffness: &[f64],
+    near: Option<&NearField>,
+    slot: &mut [usize],
     matrix: &mut Mat<f64>,
 ) {
     let na = active.len();
@@ -180,6 +222,21 @@ pub(super) fn fill_matrix(
             } else {
                 op.coefficient(i, j)
             };
+        }
+    }
+    if let Some(near) = near {
+        for (a, &i) in active.iter().enumerate() {
+            slot[i] = a;
+        }
+        for &(i, j, c) in &near.pairs {
+            let (a, b) = (slot[i], slot[j]);
+            if a != usize::MAX && b != usize::MAX {
+                m[(a, b)] += c;
+                m[(b, a)] += c;
+            }
+        }
+        for &i in active {
+            slot[i] = usize::MAX;
         }
     }
 }

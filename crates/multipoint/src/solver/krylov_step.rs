@@ -34,6 +34,9 @@ pub(super) fn krylov_step(
             x[j] = ws.step[j];
         }
         op.product.apply(&x, &mut coupling, par);
+        if let Some(near) = &ws.near {
+            near.add(&x, &mut coupling);
+        }
     }
     let b: Vec<f64> = ws
         .active
@@ -64,6 +67,7 @@ pub(super) fn krylov_step(
         stiffness: &ws.stiffness,
         n,
         par,
+        near_pairs: ws.near.as_ref().map_or(&[], |near| &near.pairs),
     };
     let budget = 20 * na.max(50);
     let t_pre = t_pre.elapsed().as_secs_f64();

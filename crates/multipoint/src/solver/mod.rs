@@ -11,6 +11,7 @@
 
 mod dense;
 mod krylov_step;
+mod near;
 mod newton;
 mod options;
 mod secant;
@@ -19,15 +20,16 @@ mod state;
 
 use tyreroad_contact_law::ContactLaw;
 
-use crate::krylov::Interaction;
+use crate::krylov::Operator;
 use faer::Par;
 
 use crate::{
     Boussinesq, Convergence, FastBoussinesq, FastOptions, Problem, Recovery, Solution, SolveError,
 };
+use near::NearField;
 use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
-pub use options::{Control, LinearSolver, SolverOptions};
+pub use options::{Control, Interaction, LinearSolver, SolverOptions};
 use options::{check_control, check_options, krylov_order, residual_options};
 use start::{coarse_start, uncoupled_start};
 use state::{Ops, Workspace};
@@ -94,6 +96,11 @@ fn solve_attempts<L: ContactLaw + Sync>(
         )));
     }
     let mut ws = Workspace::new(n);
+    ws.near = NearField::new(
+        options.interaction,
+        problem.positions(),
+        problem.material().boussinesq_factor(),
+    );
     let exact = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
     let may_krylov = options.linear_solver != LinearSolver::Dense;
     let use_fast = may_krylov && n >= options.fast_operator_min_n;
@@ -119,12 +126,12 @@ fn solve_attempts<L: ContactLaw + Sync>(
     let op = Ops {
         exact,
         residual: match (&tree, use_fast) {
-            (Some(t), true) => Interaction::Fast(t),
-            _ => Interaction::Exact(exact),
+            (Some(t), true) => Operator::Fast(t),
+            _ => Operator::Exact(exact),
         },
         product: match &tree_lo {
-            Some(t) => Interaction::Fast(t),
-            None => Interaction::Exact(exact),
+            Some(t) => Operator::Fast(t),
+            None => Operator::Exact(exact),
         },
         // The preconditioner's blocks are the leaves of the Krylov tree
         // (sized for its order), else of the only tree.
@@ -156,8 +163,7 @@ fn solve_attempts<L: ContactLaw + Sync>(
             0,
             0,
             0.0,
-            op.residual,
-            par,
+            vec![0.0; n],
         ));
     }
     let tol = options.tolerance * scale;
@@ -218,22 +224,16 @@ fn solve_attempts<L: ContactLaw + Sync>(
         problem, &op, control, &mut p, &mut delta, &mut d0, tol, options, &mut ws,
     )?;
     iterations += direct.iterations;
-    let finish = |p: Vec<f64>, d0: f64, iterations, steps, residual: f64, recovery| {
-        let mut s = Solution::finish(
-            problem,
-            p,
-            d0,
-            iterations,
-            steps,
-            residual,
-            op.residual,
-            par,
-        );
-        s.recovery = recovery;
-        s
-    };
+    let finish =
+        |ws: &mut Workspace, p: Vec<f64>, d0: f64, iterations, steps, residual: f64, recovery| {
+            let u = displacements(problem, &op, ws.near.as_mut(), &p, d0, par);
+            let mut s = Solution::finish(problem, p, d0, iterations, steps, residual, u);
+            s.recovery = recovery;
+            s
+        };
     if direct.converged {
         return Ok(finish(
+            &mut ws,
             p,
             d0,
             iterations,
@@ -263,6 +263,7 @@ fn solve_attempts<L: ContactLaw + Sync>(
             residual,
             ..
         } => Ok(finish(
+            &mut ws,
             forces,
             approach,
             iterations,
@@ -343,6 +344,35 @@ fn solve_attempts<L: ContactLaw + Sync>(
             recoveries.accept_stagnated(report)
         }
     }
+}
+
+/// The interaction displacements `u` of the final forces `p` (at approach
+/// `d0`): the residual operator's, plus the near pairs' correction with
+/// the radii at the depths `δ0 − H − u` (two passes, for the laws whose
+/// radius reads the depth).
+fn displacements<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    op: &Ops<'_>,
+    near: Option<&mut NearField>,
+    p: &[f64],
+    d0: f64,
+    par: Par,
+) -> Vec<f64> {
+    let mut u = vec![0.0; p.len()];
+    op.residual.apply(p, &mut u, par);
+    if let Some(near) = near {
+        let point = u.clone();
+        let mut depth = vec![0.0; p.len()];
+        for _ in 0..2 {
+            for ((d, h), u) in depth.iter_mut().zip(problem.gaps()).zip(&u) {
+                *d = d0 - h - u;
+            }
+            near.update(problem.laws(), problem.positions(), p, &depth);
+            u.copy_from_slice(&point);
+            near.add(p, &mut u);
+        }
+    }
+    u
 }
 
 /// The Levenberg–Marquardt shift a regularised run starts with, relative to
@@ -433,6 +463,14 @@ impl<L: ContactLaw + Sync> Recoveries<'_, '_, L> {
         let run = run?;
         self.iterations += run.iterations;
         if run.converged {
+            let u = displacements(
+                self.problem,
+                self.op,
+                self.ws.near.as_mut(),
+                &p,
+                d0,
+                self.options.par,
+            );
             let mut s = Solution::finish(
                 self.problem,
                 p,
@@ -440,8 +478,7 @@ impl<L: ContactLaw + Sync> Recoveries<'_, '_, L> {
                 self.iterations,
                 1,
                 run.residual / self.scale,
-                self.op.residual,
-                self.options.par,
+                u,
             );
             s.recovery = recovery;
             return Ok(Some(s));
@@ -497,6 +534,7 @@ impl<L: ContactLaw + Sync> Recoveries<'_, '_, L> {
                 residual: best.residual.min(max) / scale,
             });
         };
+        let u = displacements(problem, op, ws.near.as_mut(), &p, d0, par);
         let mut s = Solution::finish(
             problem,
             p,
@@ -504,8 +542,7 @@ impl<L: ContactLaw + Sync> Recoveries<'_, '_, L> {
             iterations.max(report.iterations),
             1,
             max / scale,
-            op.residual,
-            par,
+            u,
         );
         s.convergence = convergence;
         s.recovery = best.recovery;

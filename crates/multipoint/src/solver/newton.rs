@@ -9,7 +9,7 @@ use super::dense::newton_step;
 use super::options::{Control, SolverOptions};
 use super::secant::secant_corrections;
 use super::state::{Ops, Workspace};
-use crate::krylov::Interaction;
+use crate::krylov::Operator;
 use crate::{Problem, SolveError};
 
 /// Bounds of the Levenberg–Marquardt shift, relative to the mean active
@@ -71,7 +71,7 @@ pub(super) struct NewtonRun {
 #[allow(clippy::too_many_arguments)]
 pub(super) fn evaluate<L: ContactLaw + Sync>(
     problem: &Problem<L>,
-    interaction: &Interaction<'_>,
+    interaction: &Operator<'_>,
     control: Control,
     delta: &[f64],
     d0: f64,
@@ -86,6 +86,10 @@ pub(super) fn evaluate<L: ContactLaw + Sync>(
         ws.stiffness[i] = law.stiffness;
     }
     interaction.apply(p, &mut ws.u, par);
+    if let Some(near) = &mut ws.near {
+        near.update(laws, problem.positions(), p, delta);
+        near.add(p, &mut ws.u);
+    }
     let (mut max, mut sq) = (0.0_f64, 0.0);
     for i in 0..p.len() {
         let f = delta[i] + ws.u[i] - d0 + gaps[i];
@@ -239,6 +243,9 @@ pub(super) fn newton<L: ContactLaw + Sync>(
         // forces and approach imply: Δδ_i = −F_i − (T ΔP)_i + Δδ0.
         // The direction only steers Newton: the Krylov operator will do.
         op.product.apply(&ws.step, &mut ws.coupled, par);
+        if let Some(near) = &ws.near {
+            near.add(&ws.step, &mut ws.coupled);
+        }
         for i in 0..n {
             let k = ws.stiffness[i];
             ws.depth_step[i] = if k > 0.0 {

@@ -32,6 +32,35 @@ pub enum LinearSolver {
     Krylov,
 }
 
+/// How the forces of two asperities couple through the half-space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Interaction {
+    /// The point kernel `T_ij = f / r_ij`, `f = (1 − ν²)/(π E)` (Cesbron et
+    /// al. 2006). Close summits whose contact patches overlap can make
+    /// `diag(1/k) + T_AA` indefinite and the load path fold
+    /// (docs/theory.md §3).
+    Point,
+    /// Near pairs, `r_ij < near_factor · (a_i + a_j)` with `a` the radii of
+    /// the laws' local contacts at the current state, couple through the
+    /// mutual compliance of their Hertz pressure distributions,
+    /// `f · g(r_ij; a_i, a_j)` ([`mutual_compliance`](crate::mutual_compliance)),
+    /// blended smoothly into the point kernel between `near_factor` and
+    /// `2 near_factor`; farther pairs keep the point kernel (and the fast
+    /// operator). `g` is bounded at `r = 0` and within `(a_i² + a_j²)/(10 r²)`
+    /// of `1/r` beyond the patches (docs/theory.md §3).
+    Distributed {
+        /// Where the blend into the point kernel starts, in units of
+        /// `a_i + a_j`; ≥ 1 so that overlapping patches are always near.
+        near_factor: f64,
+    },
+}
+
+impl Interaction {
+    /// The distributed kernel with the default blend, from `2 (a_i + a_j)`
+    /// to `4 (a_i + a_j)` (where `g` differs from `1/r` by ≤ 0.3 %).
+    pub const DISTRIBUTED: Self = Self::Distributed { near_factor: 2.0 };
+}
+
 /// Tuning of the solver. The defaults converge from a cold start on every
 /// layout in the test suite.
 #[derive(Clone, Copy, Debug)]
@@ -92,6 +121,10 @@ pub struct SolverOptions {
     /// 21 → 9 at N = 10⁵). Only the start changes; Newton then converges to
     /// the same tolerance. `usize::MAX` disables it.
     pub coarse_start_min_n: usize,
+    /// The coupling kernel (see [`Interaction`]). The dense path, the
+    /// Krylov products and the residuals all use it; the coarse start and
+    /// the Krylov preconditioner keep the point kernel (they only steer).
+    pub interaction: Interaction,
 }
 
 /// The cluster hierarchy of the coarse start
@@ -146,6 +179,7 @@ impl Default for SolverOptions {
             fast_operator_min_n: 1500,
             fast_operator: FastOptions::default(),
             coarse_start_min_n: 4096,
+            interaction: Interaction::Point,
         }
     }
 }
@@ -195,6 +229,14 @@ pub(super) fn check_options(options: &SolverOptions) -> Result<(), SolveError> {
         return Err(SolveError::InvalidInput(format!(
             "solver options need a finite acceptable_tolerance > 0, got {}",
             options.acceptable_tolerance
+        )));
+    }
+    if let Interaction::Distributed { near_factor } = options.interaction
+        && !(near_factor.is_finite() && near_factor >= 1.0)
+    {
+        return Err(SolveError::InvalidInput(format!(
+            "solver options need Interaction::Distributed's near_factor finite and ≥ 1, \
+             got {near_factor}"
         )));
     }
     Ok(())

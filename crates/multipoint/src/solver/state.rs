@@ -6,16 +6,17 @@
 use faer::dyn_stack::MemBuffer;
 use faer::{Mat, Par};
 
-use crate::krylov::{Interaction, KrylovStats};
+use super::near::NearField;
+use crate::krylov::{KrylovStats, Operator};
 use crate::{Boussinesq, FastBoussinesq};
 
 /// The interaction products of one solve.
 pub(super) struct Ops<'a> {
     pub(super) exact: Boussinesq<'a>,
     /// Residuals (and the final depths).
-    pub(super) residual: Interaction<'a>,
+    pub(super) residual: Operator<'a>,
     /// Krylov products.
-    pub(super) product: Interaction<'a>,
+    pub(super) product: Operator<'a>,
     /// The cluster tree of the Krylov preconditioner.
     pub(super) tree: Option<&'a FastBoussinesq>,
     pub(super) positions: &'a [[f64; 2]],
@@ -32,7 +33,7 @@ impl Ops<'_> {
     /// than the residual's.
     pub(super) fn product_is_cheaper(&self) -> bool {
         match (self.product, self.residual) {
-            (Interaction::Fast(lo), Interaction::Fast(hi)) => lo.order() < hi.order(),
+            (Operator::Fast(lo), Operator::Fast(hi)) => lo.order() < hi.order(),
             _ => false,
         }
     }
@@ -95,6 +96,12 @@ pub(super) struct Workspace {
     /// `T · ΔP`, and the line search's trial δ.
     pub(super) coupled: Vec<f64>,
     pub(super) trial_depth: Vec<f64>,
+    /// The near-pair correction of the distributed interaction, at the
+    /// radii of the last evaluated state; `None` for the point kernel.
+    pub(super) near: Option<NearField>,
+    /// Active-set slot of each asperity (`usize::MAX` if inactive), for
+    /// adding the near pairs to the dense matrix.
+    pub(super) slot: Vec<usize>,
 }
 
 impl Workspace {
@@ -122,6 +129,8 @@ impl Workspace {
             depth_step: vec![0.0; n],
             coupled: vec![0.0; n],
             trial_depth: vec![0.0; n],
+            near: None,
+            slot: vec![usize::MAX; n],
         }
     }
 }
