@@ -63,10 +63,17 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
             ],
         ),
         ("tyreroad-bem", &["tyreroad-core"]),
-        // The hereditary solve steps the elastic multipoint solver.
+        // The hereditary solve steps the elastic multipoint solver; its
+        // reference steps the elastic BEM.
         (
             "tyreroad-viscoelastic",
-            &["tyreroad-core", "tyreroad-contact-law", "tyreroad-multipoint"],
+            &[
+                "tyreroad-core",
+                "tyreroad-asperity",
+                "tyreroad-contact-law",
+                "tyreroad-multipoint",
+                "tyreroad-bem",
+            ],
         ),
         ("tyreroad-film", &["tyreroad-core"]),
         (

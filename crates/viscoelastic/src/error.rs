@@ -67,6 +67,14 @@ pub enum ViscoError {
         /// The force the history alone carries (N).
         history: f64,
     },
+    /// The elastic BEM inside a viscoelastic BEM step failed.
+    #[error("viscoelastic BEM at t = {time} s: {source}")]
+    Bem {
+        /// Time of the step (s).
+        time: f64,
+        /// The BEM's error.
+        source: tyreroad_bem::BemError,
+    },
     /// An elastic multipoint solve inside a hereditary step failed.
     #[error("hereditary step {step} (t = {time} s): {source}")]
     Solve {

@@ -230,7 +230,7 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
 
 /// `(e^{−Δt/τ_k}, E_k γ_k)` per branch; `γ` through `expm1` so very short
 /// steps keep their digits (`γ → 1`).
-fn step_coefficients(material: &Prony, dt: f64) -> Vec<(f64, f64)> {
+pub(crate) fn step_coefficients(material: &Prony, dt: f64) -> Vec<(f64, f64)> {
     material
         .branches()
         .iter()

@@ -42,12 +42,16 @@
 //! # Ok::<(), tyreroad_viscoelastic::ViscoError>(())
 //! ```
 
+mod bem;
+mod compare;
 mod error;
 mod fit;
 mod history;
 mod prony;
 mod sphere;
 
+pub use bem::{ViscoBem, ViscoBemStep};
+pub use compare::{Comparison, SphereField, compare_on_spheres};
 pub use error::ViscoError;
 pub use fit::{MasterCurve, fit_prony, fit_prony_with_times};
 pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
