@@ -53,7 +53,7 @@ pub enum ViscoError {
     },
     /// Under load control, the relaxing history alone carries more than the
     /// load: the tread would separate, a receding contact this crate does not
-    /// model (Ting's treatment, see the `history` module).
+    /// model (Ting's treatment, docs/viscoelastic.md).
     #[error(
         "hereditary step {step} (t = {time} s): the load {load} N is below the relaxing history's {history} N (receding contact not modelled)"
     )]

@@ -21,12 +21,21 @@
 //! `P_i(t) = ∫_0^t E(t − s) df_i/ds ds` with `f_i` the unit-modulus elastic
 //! force of asperity `i`. [`Hereditary`] steps it with one internal variable
 //! per asperity and branch, exact for `f` linear over a step, so each step
-//! costs one elastic multipoint solve (derivation in the `history` module).
+//! costs one elastic multipoint solve (derivation in docs/viscoelastic.md).
 //! Its invariants, tested: very slow loading gives the elastic solution with
 //! `E∞`, very fast loading the one with `E∞ + Σ E_k`; a sphere pressed at
 //! constant rate follows the closed form [`lee_radok_ramp_force`].
 //! Receding contacts (Ting 1966) are not modelled: such steps are counted in
 //! [`ViscoStep::receding`].
+//!
+//! # The reference
+//!
+//! [`ViscoBem`] time-steps the project's BEM with the same Prony recursion
+//! per grid cell on the elastic-equivalent pressure `w` (`u = K̃ w`): each
+//! step is an elastic BEM contact of modulus `E_eff` on the road raised by
+//! the history's displacement, with the full complementarity conditions, so
+//! it needs no assumption on growing contacts and judges unloading too.
+//! [`compare_on_spheres`] runs both on a field of spheres.
 //!
 //! # Example
 //!
