@@ -18,6 +18,9 @@ pub use tyreroad_rolling as rolling;
 /// Road textures: height maps, synthesis, indicators, segmentation
 /// (`tyreroad-texture`).
 pub use tyreroad_texture as texture;
+/// Viscoelastic tread: Prony series, hereditary multipoint solve and its
+/// BEM reference (`tyreroad-viscoelastic`).
+pub use tyreroad_viscoelastic as viscoelastic;
 
 pub mod bem_rolling;
 pub mod fidelity;

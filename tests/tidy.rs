@@ -41,7 +41,7 @@ fn files_with(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) {
 /// crates its library code may depend on. Everything not listed is refused,
 /// so a new edge is a decision written here, not an accident.
 fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
-    let layers: [(&str, &[&str]); 11] = [
+    let layers: [(&str, &[&str]); 12] = [
         ("tyreroad-core", &[]),
         ("tyreroad-asperity", &["tyreroad-core"]),
         (
@@ -63,6 +63,18 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
             ],
         ),
         ("tyreroad-bem", &["tyreroad-core"]),
+        // The hereditary solve steps the elastic multipoint solver; its
+        // reference steps the elastic BEM.
+        (
+            "tyreroad-viscoelastic",
+            &[
+                "tyreroad-core",
+                "tyreroad-asperity",
+                "tyreroad-contact-law",
+                "tyreroad-multipoint",
+                "tyreroad-bem",
+            ],
+        ),
         ("tyreroad-film", &["tyreroad-core"]),
         (
             "tyreroad",
@@ -75,6 +87,7 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
                 "tyreroad-rolling",
                 "tyreroad-bem",
                 "tyreroad-film",
+                "tyreroad-viscoelastic",
             ],
         ),
         // Above the facade: MPI rolling and sweeps run scenarios

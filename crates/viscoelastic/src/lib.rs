@@ -1,0 +1,68 @@
+//! A viscoelastic tread for the multipoint model (docs/viscoelastic.md).
+//!
+//! # Material
+//!
+//! A generalized Maxwell model with constant Poisson's ratio ([`Prony`]):
+//!
+//! ```text
+//! E(t)  = E∞ + Σ_k E_k e^{−t/τ_k}
+//! E'(ω) = E∞ + Σ_k E_k ω²τ_k² / (1 + ω²τ_k²),   E''(ω) = Σ_k E_k ωτ_k / (1 + ω²τ_k²)
+//! ```
+//!
+//! given directly or fitted to a measured master curve ([`MasterCurve`],
+//! [`fit_prony`]: non-negative least squares on log-spaced `τ`), and moved
+//! in temperature by a WLF or Arrhenius shift factor `a_T` that multiplies
+//! every `τ_k` ([`TemperatureShift`], [`Prony::shifted`]).
+//!
+//! # Hereditary contact
+//!
+//! While contacts grow, Lee & Radok's replacement of the modulus by the
+//! hereditary operator holds for the whole frictionless half-space problem:
+//! `P_i(t) = ∫_0^t E(t − s) df_i/ds ds` with `f_i` the unit-modulus elastic
+//! force of asperity `i`. [`Hereditary`] steps it with one internal variable
+//! per asperity and branch, exact for `f` linear over a step, so each step
+//! costs one elastic multipoint solve (derivation in docs/viscoelastic.md).
+//! Its invariants, tested: very slow loading gives the elastic solution with
+//! `E∞`, very fast loading the one with `E∞ + Σ E_k`; a sphere pressed at
+//! constant rate follows the closed form [`lee_radok_ramp_force`].
+//! Receding contacts (Ting 1966) are not modelled: such steps are counted in
+//! [`ViscoStep::receding`].
+//!
+//! # The reference
+//!
+//! [`ViscoBem`] time-steps the project's BEM with the same Prony recursion
+//! per grid cell on the elastic-equivalent pressure `w` (`u = K̃ w`): each
+//! step is an elastic BEM contact of modulus `E_eff` on the road raised by
+//! the history's displacement, with the full complementarity conditions, so
+//! it needs no assumption on growing contacts and judges unloading too.
+//! [`compare_on_spheres`] runs both on a field of spheres.
+//!
+//! # Example
+//!
+//! ```
+//! use tyreroad_viscoelastic::{Branch, Prony, TemperatureShift};
+//!
+//! let tread = Prony::new(2e6, vec![Branch { modulus: 6e6, relaxation_time: 1e-4 }], 0.5)?;
+//! let shift = TemperatureShift::Wlf { c1: 8.86, c2: 101.6, reference: 293.15 };
+//! let warm = tread.shifted(shift.factor(313.15)?)?;
+//! // Warmer is softer at a given frequency.
+//! let omega = 2.0 * std::f64::consts::PI * 1000.0;
+//! assert!(warm.complex_modulus(omega).0 < tread.complex_modulus(omega).0);
+//! # Ok::<(), tyreroad_viscoelastic::ViscoError>(())
+//! ```
+
+mod bem;
+mod compare;
+mod error;
+mod fit;
+mod history;
+mod prony;
+mod sphere;
+
+pub use bem::{ViscoBem, ViscoBemStep};
+pub use compare::{Comparison, SphereField, compare_on_spheres};
+pub use error::ViscoError;
+pub use fit::{MasterCurve, fit_prony, fit_prony_with_times};
+pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
+pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
+pub use sphere::{dawson, lee_radok_ramp_force};

@@ -1,0 +1,52 @@
+//! The hereditary multipoint model against the viscoelastic BEM (the
+//! project's BEM time-stepped with internal variables): 3 × 3 spheres under a
+//! loading ramp, forces per sphere within 3 %; and the BEM's hysteresis on
+//! unloading. The 25-ball figures come from the `bem_compare` example
+//! (docs/viscoelastic.md): too heavy for the test suite.
+
+use tyreroad_viscoelastic::{Branch, Prony, SphereField, compare_on_spheres, ramp_hold_unload};
+
+fn tread() -> Prony {
+    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
+        .map(|(modulus, relaxation_time)| Branch {
+            modulus,
+            relaxation_time,
+        })
+        .to_vec();
+    Prony::new(2e6, branches, 0.5).expect("valid")
+}
+
+fn field() -> SphereField {
+    SphereField {
+        side: 3,
+        radius: 0.02,
+        pitch: 0.012,
+        gaps: vec![0.0, 1e-5, 2e-5, 3e-5, 0.0, 1e-5, 2e-5, 3e-5, 4e-5],
+        cell: 4e-4,
+    }
+}
+
+#[test]
+fn model_follows_the_viscoelastic_bem_on_a_loading_ramp() {
+    let samples: Vec<(f64, f64)> = (1..=8)
+        .map(|j| (2.5e-4 * j as f64, 5.0 * j as f64))
+        .collect();
+    let c = compare_on_spheres(&field(), &tread(), &samples).expect("both run");
+    let worst = c.worst_force_difference();
+    assert!(worst < 0.03, "worst summit force difference {worst}");
+    // The BEM's total is the load (its own check of the regions' sum).
+    for (b, (_, load)) in c.bem.iter().zip(&samples) {
+        assert!((b.iter().sum::<f64>() - load).abs() < 1e-6 * load);
+    }
+}
+
+#[test]
+fn the_bem_shows_hysteresis_on_unloading() {
+    // Up to 40 N in 1 ms, hold 1 ms, down to 20 N in 1 ms: at 20 N the tread
+    // is deeper on the way down (creep during the hold, delayed recovery).
+    let samples = ramp_hold_unload(40.0, 20.0, 1e-3, 1e-3, 4);
+    let c = compare_on_spheres(&field(), &tread(), &samples).expect("both run");
+    let up = c.bem_approach[1]; // 20 N on the ramp
+    let down = *c.bem_approach.last().expect("steps"); // 20 N after unloading
+    assert!(down > up * 1.05, "approach at 20 N: up {up}, down {down}");
+}
