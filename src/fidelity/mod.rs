@@ -13,9 +13,10 @@
 //!   [`calibrate`]), point coupling. The law is then exact for the asperity
 //!   alone up to the BEM's discretisation; what remains of the error is the
 //!   interaction's.
-//! - `distributed`: near pairs coupled through their pressure fields (built
-//!   in `tyreroad-multipoint` by another change); parsed, but refused with
-//!   [`FidelityError::NotYetAvailable`] until it is wired here.
+//! - `distributed`: the calibrated laws, and near pairs coupled through
+//!   their pressure fields instead of the point kernel
+//!   ([`crate::multipoint::Interaction::DISTRIBUTED`], docs/theory.md §3);
+//!   far pairs keep the point kernel.
 //!
 //! Invariants: a calibrated law keeps the [`crate::contact_law::ContactLaw`]
 //! contract (`P = k = 0` for `δ ≤ 0`, `P` continuous and non-decreasing,
@@ -34,7 +35,7 @@ pub use calibrate::{
 };
 pub use texture::{calibrated_set, cap_patch};
 
-use crate::multipoint::SolverOptions;
+use crate::multipoint::{Interaction, SolverOptions};
 
 /// Errors of the fidelity module.
 #[derive(Debug, thiserror::Error)]
@@ -52,12 +53,6 @@ pub enum FidelityError {
     /// An unknown fidelity name.
     #[error("unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed)")]
     UnknownFidelity(String),
-    /// A rung that is parsed but not built yet.
-    #[error(
-        "fidelity `{0}` is not yet available (the distributed interaction is being built in \
-         tyreroad-multipoint); use `wilke` or `calibrated`"
-    )]
-    NotYetAvailable(Fidelity),
     /// A BEM solve failed.
     #[error("{context}: {source}")]
     Bem {
@@ -99,7 +94,7 @@ pub enum Fidelity {
     Wilke,
     /// BEM-calibrated laws, point coupling.
     Calibrated,
-    /// Distributed near-pair coupling (not yet available here).
+    /// BEM-calibrated laws, distributed near-pair coupling.
     Distributed,
 }
 
@@ -138,21 +133,24 @@ impl Fidelity {
 
     /// The one place where a rung becomes (law source, solver options),
     /// starting from the caller's `base` options.
+    /// The base's [`SolverOptions::interaction`] is replaced by the rung's.
     ///
     /// # Errors
-    /// [`FidelityError::NotYetAvailable`] for [`Fidelity::Distributed`].
+    /// None today; the `Result` leaves room for a rung that cannot run
+    /// with the given options.
     pub fn rung(self, base: &SolverOptions) -> Result<Rung, FidelityError> {
-        let laws = match self {
-            Self::Wilke => LawSource::Potential,
-            Self::Calibrated => LawSource::Calibrated,
-            // Wired after the merge: calibrated laws with
-            // `SolverOptions::interaction = Interaction::Distributed { .. }`.
-            Self::Distributed => return Err(FidelityError::NotYetAvailable(self)),
+        let (laws, interaction) = match self {
+            Self::Wilke => (LawSource::Potential, Interaction::Point),
+            Self::Calibrated => (LawSource::Calibrated, Interaction::Point),
+            Self::Distributed => (LawSource::Calibrated, Interaction::DISTRIBUTED),
         };
         Ok(Rung {
             fidelity: self,
             laws,
-            solver: *base,
+            solver: SolverOptions {
+                interaction,
+                ..*base
+            },
         })
     }
 }

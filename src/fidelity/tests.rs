@@ -152,7 +152,7 @@ fn bad_input_is_a_named_error() {
 }
 
 #[test]
-fn rungs_parse_by_name_and_distributed_is_not_yet_available() {
+fn rungs_parse_by_name_and_map_to_their_laws_and_coupling() {
     for r in RUNGS {
         assert_eq!(r.name().parse::<Fidelity>().unwrap(), r);
     }
@@ -169,6 +169,14 @@ fn rungs_parse_by_name_and_distributed_is_not_yet_available() {
         Fidelity::Calibrated.rung(&base).unwrap().laws,
         LawSource::Calibrated
     );
-    let e = Fidelity::Distributed.rung(&base).unwrap_err();
-    assert!(e.to_string().contains("not yet available"), "{e}");
+    let distributed = Fidelity::Distributed.rung(&base).unwrap();
+    assert_eq!(distributed.laws, LawSource::Calibrated);
+    assert_eq!(
+        distributed.solver.interaction,
+        crate::multipoint::Interaction::DISTRIBUTED
+    );
+    assert_eq!(
+        Fidelity::Calibrated.rung(&base).unwrap().solver.interaction,
+        crate::multipoint::Interaction::Point
+    );
 }

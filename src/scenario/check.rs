@@ -522,10 +522,10 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
-    if fidelity == Fidelity::Calibrated && !static_texture {
+    if fidelity != Fidelity::Wilke && !static_texture {
         return Err(bad(
             "[model] fidelity",
-            "\"calibrated\"",
+            format!("{:?}", fidelity.name()),
             "\"wilke\" here: calibrated laws are built for a static [texture] scenario",
         ));
     }
