@@ -214,6 +214,29 @@ pub mod fmt {
         s.collect_seq(v.iter().map(|x| Sci9(*x)))
     }
 
+    /// A level in dB, fixed with 3 decimals; a band without power (a sensor
+    /// that never sees force: `10 log10 0 = −∞`) is an empty field, which
+    /// CSV readers take as missing (NaN), never the text `-inf`.
+    pub fn level_db<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() {
+            fixed3(v, s)
+        } else {
+            s.serialize_str("")
+        }
+    }
+
+    /// A list of levels, each as [`level_db`] (one column each).
+    pub fn level_db_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| LevelDb(*x)))
+    }
+
+    struct LevelDb(f64);
+    impl serde::Serialize for LevelDb {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            level_db(&self.0, s)
+        }
+    }
+
     /// A list of values, each fixed with 3 decimals (one column each).
     pub fn fixed3_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
         s.collect_seq(v.iter().map(|x| Fixed3(*x)))
