@@ -15,6 +15,28 @@ use serde::Serialize;
 
 use super::ScenarioError;
 
+/// The name prefix of a set's staging directory inside its output folder.
+pub const STAGING_PREFIX: &str = ".tyreroad-staging-";
+
+/// Removes the staging directories a killed run left in `dir` (a run killed
+/// before its commit never moved them in; they hold nothing a reader sees).
+/// Two runs writing into one folder at once are not supported: the second
+/// would remove the first's staging.
+fn remove_stale_staging(dir: &Path) -> Result<(), ScenarioError> {
+    let entries = fs::read_dir(dir).map_err(ScenarioError::io("reading", dir))?;
+    for entry in entries.flatten() {
+        if entry
+            .file_name()
+            .to_string_lossy()
+            .starts_with(STAGING_PREFIX)
+        {
+            let path = entry.path();
+            fs::remove_dir_all(&path).map_err(ScenarioError::io("removing stale", &path))?;
+        }
+    }
+    Ok(())
+}
+
 /// Files staged for one output folder, moved in together.
 #[derive(Debug)]
 pub struct OutputSet {
@@ -32,8 +54,9 @@ impl OutputSet {
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, ScenarioError> {
         let dir = dir.into();
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
+        remove_stale_staging(&dir)?;
         let staging = tempfile::Builder::new()
-            .prefix(".tyreroad-staging-")
+            .prefix(STAGING_PREFIX)
             .tempdir_in(&dir)
             .map_err(ScenarioError::io("creating a staging directory in", &dir))?;
         Ok(Self {

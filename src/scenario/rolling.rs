@@ -181,7 +181,7 @@ fn roll_road<L: ContactLaw + Sync>(
         .filter(|_| spec.checkpoint)
         .map(|dir: &Path| rolling::CheckpointOptions {
             dir: dir.to_path_buf(),
-            interval: Duration::from_secs(2),
+            interval: checkpoint_interval(),
         });
     // The caller's parallelism, else the scenario's `threads` (0 or unset:
     // every core).
@@ -247,4 +247,17 @@ fn spectra(
         resolved_from,
         interpolated_samples,
     })
+}
+
+/// How often a chunk rewrites its checkpoint: every 2 s, or every
+/// `TYREROAD_CHECKPOINT_INTERVAL` seconds when that variable holds a
+/// non-negative number (0: every step; the SIGKILL-resume test uses it to
+/// have checkpoints on a run of a second). The interval changes what a kill
+/// loses, never the outputs, so it is not a scenario key.
+fn checkpoint_interval() -> Duration {
+    std::env::var("TYREROAD_CHECKPOINT_INTERVAL")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .and_then(|s| Duration::try_from_secs_f64(s).ok())
+        .unwrap_or(Duration::from_secs(2))
 }
