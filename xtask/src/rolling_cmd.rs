@@ -112,7 +112,7 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<usize> {
             spectra.resolved_from
         );
     }
-    let mut set = OutputSet::new(out)?;
+    let mut set = OutputSet::replacing(out, "rolling")?;
     write_outputs(run, &mut set)?;
     set.commit()?;
     println!(

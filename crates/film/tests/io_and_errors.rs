@@ -218,6 +218,22 @@ fn layout_problems_are_errors() -> Result<()> {
     // Wrong pitch: prints fall between expected places.
     let e = match_layout(&det, &Layout::paper_grid(7e-3), origin, None).err();
     assert!(matches!(e, Some(FilmError::PrintNotFound { .. })));
+    // The message points at the scale: prints 10 mm apart, indenters 7 mm.
+    let msg = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.contains("the pixel size (dpi) is likely wrong, by a factor 0.700"),
+        "{msg}"
+    );
+    // A print missing at the right scale names no scale problem.
+    let mut ind = Layout::paper_grid(10e-3).indenters().to_vec();
+    ind[12].x = 0.005;
+    ind[12].y = 0.005;
+    let e = match_layout(&det, &Layout::new(ind)?, origin, None).err();
+    let msg = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.starts_with("print not found") && !msg.contains("dpi"),
+        "{msg}"
+    );
     // Two indenters on one print (large tolerance).
     let two = Layout::new(vec![
         Indenter {
