@@ -194,7 +194,27 @@ fn roll_road<L: ContactLaw + Sync>(
         progress: options.progress,
         par,
     };
-    let result = rolling::roll(road, material, &config, &run_options)?;
+    let result = rolling::roll(road, material, &config, &run_options).map_err(|e| match e {
+        // Said in the scenario's terms: the path (keys) misses the road.
+        rolling::RollingError::NoSupport { position } => {
+            let span = |axis: usize| {
+                road.positions()
+                    .iter()
+                    .map(|p| p[axis])
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(v), b.max(v))
+                    })
+            };
+            let ((x0, x1), (y0, y1)) = (span(0), span(1));
+            ScenarioError::Invalid(format!(
+                "[rolling] start/end/lateral: no asperity under the footprint at x = {position} m, \
+                 lateral {} m; the road's asperities span x ∈ [{x0:.4}, {x1:.4}] m, \
+                 y ∈ [{y0:.4}, {y1:.4}] m: put the path on the road",
+                config.lateral
+            ))
+        }
+        other => other.into(),
+    })?;
     let spectra = spectra(&config, spec, &result)?;
     Ok(RollingRun {
         road: summary,
