@@ -15,12 +15,37 @@ use serde::Serialize;
 
 use super::ScenarioError;
 
+/// The name prefix of a set's staging directory inside its output folder.
+pub const STAGING_PREFIX: &str = ".tyreroad-staging-";
+
+/// Removes the staging directories a killed run left in `dir` (a run killed
+/// before its commit never moved them in; they hold nothing a reader sees).
+/// Two runs writing into one folder at once are not supported: the second
+/// would remove the first's staging.
+fn remove_stale_staging(dir: &Path) -> Result<(), ScenarioError> {
+    let entries = fs::read_dir(dir).map_err(ScenarioError::io("reading", dir))?;
+    for entry in entries.flatten() {
+        if entry
+            .file_name()
+            .to_string_lossy()
+            .starts_with(STAGING_PREFIX)
+        {
+            let path = entry.path();
+            fs::remove_dir_all(&path).map_err(ScenarioError::io("removing stale", &path))?;
+        }
+    }
+    Ok(())
+}
+
 /// Files staged for one output folder, moved in together.
 #[derive(Debug)]
 pub struct OutputSet {
     dir: PathBuf,
     staging: tempfile::TempDir,
     names: Vec<String>,
+    /// The manifest of what this producer wrote last, when the set replaces
+    /// it ([`OutputSet::replacing`]).
+    manifest: Option<String>,
 }
 
 impl OutputSet {
@@ -32,15 +57,48 @@ impl OutputSet {
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, ScenarioError> {
         let dir = dir.into();
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
+        remove_stale_staging(&dir)?;
         let staging = tempfile::Builder::new()
-            .prefix(".tyreroad-staging-")
+            .prefix(STAGING_PREFIX)
             .tempdir_in(&dir)
             .map_err(ScenarioError::io("creating a staging directory in", &dir))?;
         Ok(Self {
             dir,
             staging,
             names: Vec::new(),
+            manifest: None,
         })
+    }
+
+    /// A set that replaces what the same producer (`producer`, e.g. the
+    /// scenario's name) last committed to `dir`: at commit, the files its
+    /// previous set listed that this one does not write are removed, so an
+    /// output of an older run (a pressure map at a load that now failed, the
+    /// sensors of a scenario that no longer has any) never stays beside the
+    /// new ones. The list is the hidden file `.tyreroad-outputs-PRODUCER`;
+    /// files of other producers and of the user are never touched.
+    ///
+    /// # Errors
+    /// As [`OutputSet::new`], and [`ScenarioError::Io`] naming `producer`
+    /// when it is not a plain file-name part (empty, `/`, `\`, `..`).
+    pub fn replacing(dir: impl Into<PathBuf>, producer: &str) -> Result<Self, ScenarioError> {
+        let plain = !producer.is_empty()
+            && !producer.contains(['/', '\\', '\n', '\0'])
+            && !producer.contains("..");
+        let dir = dir.into();
+        if !plain {
+            return Err(ScenarioError::Io {
+                action: "naming the output list of",
+                path: dir,
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    format!("producer {producer:?} is not a plain file-name part"),
+                ),
+            });
+        }
+        let mut set = Self::new(dir)?;
+        set.manifest = Some(format!("{MANIFEST_PREFIX}{producer}"));
+        Ok(set)
     }
 
     /// The folder the set lands in.
@@ -98,6 +156,9 @@ impl OutputSet {
         }
         extra.sort();
         self.names.extend(extra);
+        if let Some(manifest) = &self.manifest {
+            self.replace_previous(manifest)?;
+        }
         let mut written = Vec::with_capacity(self.names.len());
         for name in &self.names {
             let from = self.staging.path().join(name);
@@ -108,6 +169,14 @@ impl OutputSet {
             fs::rename(&from, &to).map_err(ScenarioError::io("moving into place", &to))?;
             written.push(to);
         }
+        if let Some(manifest) = &self.manifest {
+            // Last, so that the list never names a file not yet in place.
+            let list: String = self.names.iter().map(|n| format!("{n}\n")).collect();
+            let from = self.staging.path().join(manifest);
+            fs::write(&from, list).map_err(ScenarioError::io("writing", &from))?;
+            let to = self.dir.join(manifest);
+            fs::rename(&from, &to).map_err(ScenarioError::io("moving into place", &to))?;
+        }
         let staging = self.staging.path().to_path_buf();
         self.staging
             .close()
@@ -115,6 +184,40 @@ impl OutputSet {
         Ok(written)
     }
 }
+
+impl OutputSet {
+    /// Removes the files the producer's previous set listed in `manifest`
+    /// that this set does not write (only plain names: the list is read as
+    /// untrusted text).
+    fn replace_previous(&self, manifest: &str) -> Result<(), ScenarioError> {
+        let path = self.dir.join(manifest);
+        let previous = match fs::read_to_string(&path) {
+            Ok(text) => text,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+            Err(e) => return Err(ScenarioError::io("reading", &path)(e)),
+        };
+        for old in previous.lines() {
+            let plain = !old.is_empty()
+                && !old.contains(['/', '\\'])
+                && old != ".."
+                && old != "."
+                && !old.starts_with(MANIFEST_PREFIX);
+            if plain && !self.names.iter().any(|n| n == old) {
+                let stale = self.dir.join(old);
+                match fs::remove_file(&stale) {
+                    Ok(()) => {}
+                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                    Err(e) => return Err(ScenarioError::io("removing stale", &stale)(e)),
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The name prefix of the hidden list of what a producer last committed to
+/// a folder ([`OutputSet::replacing`]).
+pub const MANIFEST_PREFIX: &str = ".tyreroad-outputs-";
 
 /// A CSV table: `header` (when given; else the row type's field names) then
 /// one line per row, `\n`-terminated, fields quoted only where CSV needs it.
@@ -212,6 +315,29 @@ pub mod fmt {
     /// A list of values, each scientific with 9 decimals (one column each).
     pub fn sci9_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
         s.collect_seq(v.iter().map(|x| Sci9(*x)))
+    }
+
+    /// A level in dB, fixed with 3 decimals; a band without power (a sensor
+    /// that never sees force: `10 log10 0 = −∞`) is an empty field, which
+    /// CSV readers take as missing (NaN), never the text `-inf`.
+    pub fn level_db<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() {
+            fixed3(v, s)
+        } else {
+            s.serialize_str("")
+        }
+    }
+
+    /// A list of levels, each as [`level_db`] (one column each).
+    pub fn level_db_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| LevelDb(*x)))
+    }
+
+    struct LevelDb(f64);
+    impl serde::Serialize for LevelDb {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            level_db(&self.0, s)
+        }
     }
 
     /// A list of values, each fixed with 3 decimals (one column each).
@@ -466,6 +592,64 @@ mod tests {
         drop(set);
         assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "one\n");
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_replacing_set_removes_its_producers_stale_files_and_only_those() {
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        fs::create_dir_all(&dir).unwrap();
+        fs::write(dir.join("notes.txt"), "the user's").unwrap();
+        let mut other = OutputSet::replacing(&dir, "other").unwrap();
+        other.write("other.csv", b"o\n").unwrap();
+        other.commit().unwrap();
+        let mut set = OutputSet::replacing(&dir, "run").unwrap();
+        set.write("a.csv", b"1\n").unwrap();
+        set.write("p_150N.npz", b"1\n").unwrap();
+        set.commit().unwrap();
+        // The next run of "run" no longer writes the 150 N map.
+        let mut set = OutputSet::replacing(&dir, "run").unwrap();
+        set.write("a.csv", b"2\n").unwrap();
+        set.commit().unwrap();
+        let mut names: Vec<String> = fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            [
+                ".tyreroad-outputs-other",
+                ".tyreroad-outputs-run",
+                "a.csv",
+                "notes.txt",
+                "other.csv"
+            ]
+        );
+        assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "2\n");
+        // A set dropped before its commit (a failed run) leaves the previous
+        // run's files, all of them, as they were.
+        let mut set = OutputSet::replacing(&dir, "run").unwrap();
+        set.write("b.csv", b"3\n").unwrap();
+        drop(set);
+        assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "2\n");
+        assert!(!dir.join("b.csv").exists());
+        for bad in ["", "../x", "a/b"] {
+            assert!(OutputSet::replacing(&dir, bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn a_staging_directory_left_by_a_killed_run_is_removed_by_the_next() {
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        let stale = dir.join(format!("{STAGING_PREFIX}killed"));
+        fs::create_dir_all(&stale).unwrap();
+        fs::write(stale.join("half.csv"), "1,").unwrap();
+        let set = OutputSet::new(&dir).unwrap();
+        assert!(!stale.exists());
+        set.commit().unwrap();
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0);
     }
 
     #[test]

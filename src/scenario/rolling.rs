@@ -217,7 +217,7 @@ fn roll_road<L: ContactLaw + Sync>(
         .filter(|_| spec.checkpoint)
         .map(|dir: &Path| rolling::CheckpointOptions {
             dir: dir.to_path_buf(),
-            interval: Duration::from_secs(2),
+            interval: checkpoint_interval(),
         });
     // The caller's parallelism, else the scenario's `threads` (0 or unset:
     // every core).
@@ -230,10 +230,32 @@ fn roll_road<L: ContactLaw + Sync>(
         progress: options.progress,
         par,
     };
+    // Said in the scenario's terms: the path (keys) misses the road.
+    let off_road = |e: rolling::RollingError| match e {
+        rolling::RollingError::NoSupport { position } => {
+            let span = |axis: usize| {
+                road.positions()
+                    .iter()
+                    .map(|p| p[axis])
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                        (a.min(v), b.max(v))
+                    })
+            };
+            let ((x0, x1), (y0, y1)) = (span(0), span(1));
+            ScenarioError::Invalid(format!(
+                "[rolling] start/end/lateral: no asperity under the footprint at x = {position} m, \
+                 lateral {} m; the road's asperities span x ∈ [{x0:.4}, {x1:.4}] m, \
+                 y ∈ [{y0:.4}, {y1:.4}] m: put the path on the road",
+                config.lateral
+            ))
+        }
+        other => other.into(),
+    };
     let result = match what {
-        What::Whole => rolling::roll(road, material, &config, &run_options)?,
+        What::Whole => rolling::roll(road, material, &config, &run_options).map_err(off_road)?,
         What::Part { steps, warmup } => {
-            let part = rolling::roll_range(road, material, &config, steps, warmup, &run_options)?;
+            let part = rolling::roll_range(road, material, &config, steps, warmup, &run_options)
+                .map_err(off_road)?;
             return Ok(Rolled::Part(part));
         }
         What::Gathered(result) => {
@@ -300,4 +322,17 @@ fn spectra(
         resolved_from,
         interpolated_samples,
     })
+}
+
+/// How often a chunk rewrites its checkpoint: every 2 s, or every
+/// `TYREROAD_CHECKPOINT_INTERVAL` seconds when that variable holds a
+/// non-negative number (0: every step; the SIGKILL-resume test uses it to
+/// have checkpoints on a run of a second). The interval changes what a kill
+/// loses, never the outputs, so it is not a scenario key.
+fn checkpoint_interval() -> Duration {
+    std::env::var("TYREROAD_CHECKPOINT_INTERVAL")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .and_then(|s| Duration::try_from_secs_f64(s).ok())
+        .unwrap_or(Duration::from_secs(2))
 }

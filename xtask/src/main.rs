@@ -110,7 +110,7 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
         return strict_rolling(strict, unconverged);
     }
     let result = s.run(&RunOptions::new(base))?;
-    let mut set = OutputSet::new(out)?;
+    let mut set = OutputSet::replacing(out, &s.name)?;
     let mut fallbacks = 0;
     match result {
         ScenarioResult::Texture(r) => {

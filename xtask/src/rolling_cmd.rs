@@ -16,7 +16,9 @@ use crate::charts::{Series, line_chart};
 /// Runs a `[rolling]` scenario with a progress bar; with `checkpoint = true`
 /// a killed run resumes from `out/checkpoint/`. Writes into `out`:
 /// `time_signals.csv`, `third_octave.csv` (`band_centre_hz,level_db`),
-/// `third_octave_bands.csv` (exact centres and sensor levels), `sensors.csv`
+/// `third_octave_bands.csv` (exact centres and sensor levels; a band without
+/// power, as at a sensor that never sees force, has an empty level, never
+/// `-inf`), `sensors.csv`
 /// (when sensors are defined), `road.npz` (the road's asperities: `ids`,
 /// `positions` `(n, 2)`, `heights`), `steps.npz` (per step `time` and
 /// `position`, the path's `lateral`, and the contact forces as COO triplets
@@ -110,7 +112,7 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<usize> {
             spectra.resolved_from
         );
     }
-    let mut set = OutputSet::new(out)?;
+    let mut set = OutputSet::replacing(out, "rolling")?;
     write_outputs(run, &mut set)?;
     set.commit()?;
     println!(
@@ -152,7 +154,7 @@ struct TimeSignalRow {
 struct BandRow {
     #[serde(rename = "band_centre_hz", serialize_with = "fmt::plain")]
     nominal: f64,
-    #[serde(serialize_with = "fmt::fixed3")]
+    #[serde(serialize_with = "fmt::level_db")]
     level_db: f64,
 }
 
@@ -164,7 +166,7 @@ struct BandDetailRow {
     nominal: f64,
     #[serde(serialize_with = "fmt::fixed3")]
     centre: f64,
-    #[serde(serialize_with = "fmt::fixed3_all")]
+    #[serde(serialize_with = "fmt::level_db_all")]
     sensors: Vec<f64>,
 }
 
@@ -342,6 +344,20 @@ pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()>
             points: band_points(l),
         });
     }
+    // A band without power has no level (−∞ dB): its curve is left out, and
+    // said so, rather than the whole chart failing for want of data.
+    for s in series.iter().filter(|s| s.points.is_empty()) {
+        println!(
+            "note: {} has no power in any band (no force at all): its levels are empty in the \
+             CSV files and it has no curve in third_octave.svg",
+            s.label
+        );
+    }
+    series.retain(|s| !s.points.is_empty());
+    if series.is_empty() {
+        println!("note: third_octave.svg/png not drawn: no band has power (nothing touched)");
+        return Ok(());
+    }
     line_chart(
         set,
         "third_octave",
@@ -432,6 +448,73 @@ mod tests {
         assert_eq!((png.width(), png.height()), (900, 520));
         // Second run: everything from the checkpoint.
         run_rolling(&scenario, Path::new("."), &out)?;
+        std::fs::remove_dir_all(&out)?;
+        Ok(())
+    }
+    #[test]
+    fn a_sensor_that_never_sees_force_has_empty_levels_not_minus_infinity() -> Result<()> {
+        let text = r#"
+            name = "far_sensor"
+            [material]
+            youngs_modulus = "6.54 MPa"
+            poisson_ratio = 0.5
+            [rolling]
+            start = "30 mm"
+            end = "45 mm"
+            step = "1 mm"
+            speed = "50 km/h"
+            threads = 1
+            checkpoint = false
+            [rolling.tread]
+            kind = "tyre"
+            radius_x = "0.3 m"
+            radius_y = "0.5 m"
+            length = "50 mm"
+            width = "40 mm"
+            [rolling.control]
+            load = "50 N"
+            [[rolling.sensor]]
+            name = "centre"
+            x0 = "0 mm"
+            x1 = "100 mm"
+            y0 = "-10 mm"
+            y1 = "10 mm"
+            [[rolling.sensor]]
+            name = "far"
+            x0 = "0 mm"
+            x1 = "100 mm"
+            y0 = "24 mm"
+            y1 = "25 mm"
+            [rolling.synthetic_road]
+            length = "0.1 m"
+            width = "0.05 m"
+            density = 40000
+        "#;
+        let scenario = Scenario::parse(text, "far_sensor")?;
+        let out = std::env::temp_dir().join(format!("tyreroad-far-sensor-{}", std::process::id()));
+        run_rolling(&scenario, Path::new("."), &out)?;
+        let sensors = std::fs::read_to_string(out.join("sensors.csv"))?;
+        // The far sensor's force is zero at every step (the footprint reaches
+        // y = ±20 mm), so its band powers are zero.
+        assert!(
+            sensors.lines().skip(1).all(|l| l
+                .split(',')
+                .nth(3)
+                .and_then(|v| v.parse::<f64>().ok())
+                == Some(0.0)),
+            "{sensors}"
+        );
+        let bands = std::fs::read_to_string(out.join("third_octave_bands.csv"))?;
+        assert!(!bands.to_ascii_lowercase().contains("inf"), "{bands}");
+        let rows: Vec<&str> = bands.lines().skip(1).collect();
+        assert!(!rows.is_empty());
+        for row in rows {
+            let cells: Vec<&str> = row.split(',').collect();
+            assert_eq!(cells.len(), 4, "{row}");
+            assert!(cells[2].parse::<f64>().is_ok_and(f64::is_finite), "{row}");
+            assert_eq!(cells[3], "", "{row}");
+        }
+        assert!(out.join("third_octave.svg").exists());
         std::fs::remove_dir_all(&out)?;
         Ok(())
     }

@@ -22,7 +22,9 @@ pub enum TextureCommand {
     Info {
         /// The height map file.
         file: PathBuf,
-        /// MPD baseline in metres (default 0.1, the ISO 13473-1 value).
+        /// MPD baseline in metres (default 0.1, the ISO 13473-1 value); a
+        /// value that is not a positive length, or one the map cannot give an
+        /// MPD for, is an error (non-zero exit).
         #[arg(long)]
         baseline: Option<f64>,
     },
@@ -143,8 +145,23 @@ pub fn info_lines(map: &texture::HeightMap, baseline: Option<f64>) -> Vec<String
 pub fn run(cmd: &TextureCommand) -> Result<()> {
     match cmd {
         TextureCommand::Info { file, baseline } => {
+            if let Some(b) = baseline
+                && !(b.is_finite() && *b > 0.0)
+            {
+                anyhow::bail!(
+                    "--baseline {b}: the MPD baseline must be a positive length in metres \
+                     (ISO 13473-1 uses 0.1)"
+                );
+            }
             let map =
                 texture::read_any(file).with_context(|| format!("reading {}", file.display()))?;
+            if let Some(b) = baseline
+                && let Err(e) = texture::mean_profile_depth(&map, Some(*b))
+            {
+                // Asked for by name, so an MPD that cannot be had is the
+                // command's failure, not an "n/a" line.
+                anyhow::bail!("--baseline {b}: {e}");
+            }
             for line in info_lines(&map, *baseline) {
                 println!("{line}");
             }

@@ -86,7 +86,7 @@ pub enum FilmError {
     /// An indenter of the layout has no print near its expected position.
     #[error(
         "print not found for indenter {indenter}: nothing within {tolerance_m:.3e} m of \
-         ({x_m:.4e}, {y_m:.4e}) m"
+         ({x_m:.4e}, {y_m:.4e}) m{scale_hint}"
     )]
     PrintNotFound {
         /// Indenter number.
@@ -97,6 +97,10 @@ pub enum FilmError {
         y_m: f64,
         /// Search radius, m.
         tolerance_m: f64,
+        /// Empty, or (starting with "; ") why the scale is likely wrong:
+        /// the prints lie much closer or farther apart, at the scan's pixel
+        /// size, than the layout's indenters.
+        scale_hint: String,
     },
     /// The layout does not fit the prints (or the model rows).
     #[error("layout mismatch: {0}")]

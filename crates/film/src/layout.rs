@@ -368,11 +368,60 @@ fn assign(detection: &Detection, ind: &[Indenter], frame: &Frame, tol: f64) -> R
                     x_m: i.x,
                     y_m: i.y,
                     tolerance_m: tol,
+                    scale_hint: scale_hint(detection, ind),
                 });
             }
         }
     }
     Ok(out)
+}
+
+/// Median distance to the nearest other point (None below two points).
+fn median_nearest(points: &[(f64, f64)]) -> Option<f64> {
+    if points.len() < 2 {
+        return None;
+    }
+    let mut nearest: Vec<f64> = points
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != k)
+                .map(|(_, b)| (a.0 - b.0).hypot(a.1 - b.1))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    nearest.sort_by(f64::total_cmp);
+    Some(nearest[nearest.len() / 2])
+}
+
+/// When an indenter finds no print, says whether the scale is the likely
+/// cause: the prints' median nearest-neighbour spacing (at the scan's pixel
+/// size) more than 20 % off the indenters'. A wrong dpi moves every print
+/// but the first, which a bare "print not found" does not suggest.
+fn scale_hint(detection: &Detection, ind: &[Indenter]) -> String {
+    let s = detection.pixel_size;
+    let prints: Vec<(f64, f64)> = detection
+        .prints
+        .iter()
+        .map(|p| (p.centroid_px.0 * s, p.centroid_px.1 * s))
+        .collect();
+    let indenters: Vec<(f64, f64)> = ind.iter().map(|i| (i.x, i.y)).collect();
+    let (Some(printed), Some(laid)) = (median_nearest(&prints), median_nearest(&indenters)) else {
+        return String::new();
+    };
+    let ratio = printed / laid;
+    if (0.8..=1.25).contains(&ratio) || !ratio.is_finite() {
+        return String::new();
+    }
+    format!(
+        "; at the pixel size {s:.4e} m the prints are {printed:.3e} m apart, the layout's \
+         indenters {laid:.3e} m ({ratio:.3}×): the pixel size (dpi) is likely wrong, by a \
+         factor {:.3} (or the layout's pitch is)",
+        1.0 / ratio
+    )
 }
 
 /// Detects a rectangular grid in the prints: rows are split where the

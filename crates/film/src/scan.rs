@@ -77,7 +77,9 @@ impl Scan {
     /// The pixel size comes from the file's resolution (PNG `pHYs` in pixels
     /// per metre, TIFF `XResolution`/`ResolutionUnit` in inch or cm) when it
     /// has one; override it with [`Scan::with_pixel_size`] or
-    /// [`Scan::with_dpi`].
+    /// [`Scan::with_dpi`]. A file whose x and y resolutions differ is refused
+    /// ([`FilmError::Image`], "non-square pixels"): the model has one pixel
+    /// size, and reading it as square would stretch every print.
     pub fn open(path: &Path, channel: Channel) -> Result<Self> {
         let bytes = std::fs::read(path).map_err(|reason| FilmError::Io {
             path: path.to_path_buf(),
@@ -94,8 +96,8 @@ impl Scan {
         };
         let format = image::guess_format(bytes).map_err(|e| img_err(e.to_string()))?;
         let pixel_size = match format {
-            ImageFormat::Png => png_pixel_size(bytes),
-            ImageFormat::Tiff => tiff_pixel_size(bytes),
+            ImageFormat::Png => png_pixel_size(bytes).map_err(img_err)?,
+            ImageFormat::Tiff => tiff_pixel_size(bytes).map_err(img_err)?,
             other => {
                 return Err(img_err(format!(
                     "unsupported format {other:?} (PNG or TIFF expected)"
@@ -248,39 +250,72 @@ fn extract_channel(
     })
 }
 
-/// Pixel size from a PNG's pHYs chunk (unit metre only).
-fn png_pixel_size(bytes: &[u8]) -> Option<f64> {
+/// The refusal of a scan whose pixels are not square: the film model uses
+/// one pixel size, and reading a 600 × 300 dpi scan as square would stretch
+/// every print by two along y.
+fn non_square(x_per_m: f64, y_per_m: f64, chunk: &str) -> String {
+    format!(
+        "non-square pixels: {chunk} gives {:.0} × {:.0} dpi (x × y); the film reader needs \
+         square pixels: resample the scan to one resolution",
+        x_per_m * 0.0254,
+        y_per_m * 0.0254
+    )
+}
+
+/// Pixel size from a PNG's pHYs chunk (unit metre only; an aspect-ratio-only
+/// chunk gives no size but must still be square).
+fn png_pixel_size(bytes: &[u8]) -> std::result::Result<Option<f64>, String> {
     let decoder = png::Decoder::new(Cursor::new(bytes));
-    let reader = decoder.read_info().ok()?;
-    let dims = reader.info().pixel_dims?;
-    if dims.unit == png::Unit::Meter && dims.xppu > 0 {
-        Some(1.0 / dims.xppu as f64)
-    } else {
-        None
+    let Ok(reader) = decoder.read_info() else {
+        // The image decoder reports the damage with its own message.
+        return Ok(None);
+    };
+    let Some(dims) = reader.info().pixel_dims else {
+        return Ok(None);
+    };
+    if dims.xppu != dims.yppu {
+        return Err(non_square(dims.xppu as f64, dims.yppu as f64, "pHYs"));
     }
+    Ok((dims.unit == png::Unit::Meter && dims.xppu > 0).then(|| 1.0 / dims.xppu as f64))
 }
 
 /// Pixel size from a TIFF's XResolution and ResolutionUnit (2 = inch,
 /// 3 = centimetre; 1 = none gives no size).
-fn tiff_pixel_size(bytes: &[u8]) -> Option<f64> {
+fn tiff_pixel_size(bytes: &[u8]) -> std::result::Result<Option<f64>, String> {
     use tiff::decoder::ifd::Value;
     use tiff::tags::Tag;
-    let mut dec = tiff::decoder::Decoder::new(Cursor::new(bytes)).ok()?;
-    let res = match dec.find_tag(Tag::XResolution).ok()?? {
-        Value::Rational(n, d) if d != 0 => n as f64 / d as f64,
-        Value::Double(v) => v,
-        Value::Float(v) => v as f64,
-        _ => return None,
+    let Ok(mut dec) = tiff::decoder::Decoder::new(Cursor::new(bytes)) else {
+        return Ok(None);
     };
+    let mut resolution = |tag| match dec.find_tag(tag).ok().flatten() {
+        Some(Value::Rational(n, d)) if d != 0 => Some(n as f64 / d as f64),
+        Some(Value::Double(v)) => Some(v),
+        Some(Value::Float(v)) => Some(v as f64),
+        _ => None,
+    };
+    let Some(res) = resolution(Tag::XResolution) else {
+        return Ok(None);
+    };
+    let y_res = resolution(Tag::YResolution);
     let unit = dec
         .find_tag_unsigned::<u16>(Tag::ResolutionUnit)
         .ok()
         .flatten()
         .unwrap_or(2);
     let per_metre = match unit {
-        2 => res / 0.0254,
-        3 => res / 0.01,
-        _ => return None,
+        2 => 1.0 / 0.0254,
+        3 => 1.0 / 0.01,
+        _ => return Ok(None),
     };
-    (per_metre.is_finite() && per_metre > 0.0).then(|| 1.0 / per_metre)
+    if let Some(y) = y_res
+        && (y - res).abs() > 1e-9 * res.abs()
+    {
+        return Err(non_square(
+            res * per_metre,
+            y * per_metre,
+            "XResolution/YResolution",
+        ));
+    }
+    let per_metre = res * per_metre;
+    Ok((per_metre.is_finite() && per_metre > 0.0).then(|| 1.0 / per_metre))
 }

@@ -218,6 +218,22 @@ fn layout_problems_are_errors() -> Result<()> {
     // Wrong pitch: prints fall between expected places.
     let e = match_layout(&det, &Layout::paper_grid(7e-3), origin, None).err();
     assert!(matches!(e, Some(FilmError::PrintNotFound { .. })));
+    // The message points at the scale: prints 10 mm apart, indenters 7 mm.
+    let msg = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.contains("the pixel size (dpi) is likely wrong, by a factor 0.700"),
+        "{msg}"
+    );
+    // A print missing at the right scale names no scale problem.
+    let mut ind = Layout::paper_grid(10e-3).indenters().to_vec();
+    ind[12].x = 0.005;
+    ind[12].y = 0.005;
+    let e = match_layout(&det, &Layout::new(ind)?, origin, None).err();
+    let msg = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.starts_with("print not found") && !msg.contains("dpi"),
+        "{msg}"
+    );
     // Two indenters on one print (large tolerance).
     let two = Layout::new(vec![
         Indenter {
@@ -307,4 +323,64 @@ fn annotated_image_marks_prints() -> Result<()> {
         "{red} {blue} {green}"
     );
     Ok(())
+}
+
+/// A grey PNG of W × H with the given pHYs (pixels per metre along x, y).
+fn png_with_phys(xppu: u32, yppu: u32) -> Vec<u8> {
+    let mut buf = Vec::new();
+    let mut enc = png::Encoder::new(&mut buf, W, H);
+    enc.set_color(png::ColorType::Grayscale);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_pixel_dims(Some(png::PixelDimensions {
+        xppu,
+        yppu,
+        unit: png::Unit::Meter,
+    }));
+    let mut w = enc.write_header().expect("png header");
+    w.write_image_data(&vec![128u8; (W * H) as usize])
+        .expect("png data");
+    drop(w);
+    buf
+}
+
+#[test]
+fn scans_with_non_square_pixels_are_refused_not_read_as_square() {
+    // 600 × 300 dpi = 23 622 × 11 811 pixels per metre.
+    let bytes = png_with_phys(23_622, 11_811);
+    let e = Scan::decode(&bytes, Channel::Auto, Path::new("wide.png")).err();
+    let msg = e.as_ref().map(ToString::to_string).unwrap_or_default();
+    assert!(
+        matches!(e, Some(FilmError::Image { .. }))
+            && msg.contains("wide.png")
+            && msg.contains("non-square pixels")
+            && msg.contains("600 × 300 dpi"),
+        "{msg}"
+    );
+    // The same scan at 600 × 600 dpi reads, with its pixel size.
+    let s = Scan::decode(
+        &png_with_phys(23_622, 23_622),
+        Channel::Auto,
+        Path::new("sq.png"),
+    );
+    let size = s.ok().and_then(|s| s.pixel_size()).unwrap_or(0.0);
+    assert!((size - 1.0 / 23_622.0).abs() < 1e-15, "{size}");
+
+    let mut cur = Cursor::new(Vec::new());
+    {
+        let mut enc = tiff::encoder::TiffEncoder::new(&mut cur).expect("tiff encoder");
+        let mut img = enc
+            .new_image::<tiff::encoder::colortype::Gray16>(W, H)
+            .expect("tiff image");
+        img.resolution_unit(tiff::tags::ResolutionUnit::Inch);
+        img.x_resolution(tiff::encoder::Rational { n: 600, d: 1 });
+        img.y_resolution(tiff::encoder::Rational { n: 300, d: 1 });
+        img.write_data(&vec![30000u16; (W * H) as usize])
+            .expect("tiff data");
+    }
+    let e = Scan::decode(cur.get_ref(), Channel::Auto, Path::new("wide.tif")).err();
+    let msg = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.contains("wide.tif") && msg.contains("600 × 300 dpi"),
+        "{msg}"
+    );
 }

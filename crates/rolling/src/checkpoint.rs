@@ -244,7 +244,8 @@ pub(crate) struct Expect<'c> {
 }
 
 /// Every record and state of every checkpoint file of `hash` in the
-/// directory (none when the directory does not exist). A file that is
+/// directory (none when the directory does not exist); temporary files left
+/// by a killed run are removed. A file that is
 /// damaged or disagrees with the inputs is refused
 /// ([`RollingError::CheckpointRejected`]).
 pub(crate) fn load(ck: &CheckpointOptions, expect: &Expect<'_>) -> Result<Loaded, RollingError> {
@@ -258,6 +259,12 @@ pub(crate) fn load(ck: &CheckpointOptions, expect: &Expect<'_>) -> Result<Loaded
     for entry in entries {
         let entry = entry.map_err(|e| io_error(&ck.dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') && name.contains(".ckpt.tmp-") {
+            // A file a killed run was writing (never renamed, so never read):
+            // removed so that the directory holds only whole checkpoints.
+            let _ = fs::remove_file(entry.path());
+            continue;
+        }
         if !(name.starts_with(&prefix) && name.ends_with(".ckpt")) {
             continue;
         }

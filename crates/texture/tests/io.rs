@@ -353,13 +353,29 @@ fn hand_written_npy_reads_back() {
     assert!((map.heights()[11] - 11e-4).abs() < 1e-15);
 }
 
+/// Runs every reader on `bytes`: none may panic, and a map any of them
+/// accepts has a finite height at every valid point (a non-finite value is
+/// a named error or a missing point, never a valid one).
 fn readers(bytes: &[u8]) {
-    let _ = x3p_from_bytes(bytes);
-    let _ = sur_from_bytes(bytes);
-    let _ = npy_from_bytes(bytes, 1e-4, 1e-4);
     let s = String::from_utf8_lossy(bytes);
-    let _ = ascii_grid_from_str(&s);
-    let _ = xyz_from_str(&s);
+    for (reader, map) in [
+        ("x3p", x3p_from_bytes(bytes)),
+        ("sur", sur_from_bytes(bytes)),
+        ("npy", npy_from_bytes(bytes, 1e-4, 1e-4)),
+        ("ascii", ascii_grid_from_str(&s)),
+        ("xyz", xyz_from_str(&s)),
+    ] {
+        if let Ok(map) = map {
+            let bad = map
+                .heights()
+                .iter()
+                .zip(map.valid())
+                .position(|(h, v)| *v && !h.is_finite());
+            assert_eq!(bad, None, "{reader}: a valid point is not finite");
+            assert!(map.dx().is_finite() && map.dx() > 0.0, "{reader}: dx");
+            assert!(map.dy().is_finite() && map.dy() > 0.0, "{reader}: dy");
+        }
+    }
 }
 
 proptest! {
@@ -410,7 +426,7 @@ proptest! {
         for (k, v) in fields {
             b[k] = v;
         }
-        let _ = sur_from_bytes(&b);
+        readers(&b);
     }
 
     #[test]

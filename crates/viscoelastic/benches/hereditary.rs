@@ -51,8 +51,7 @@ fn bench_history(c: &mut Criterion) {
     });
     group.bench_function("hereditary", |b| {
         b.iter(|| {
-            run_load_history(&problem, material.clone(), options, &samples)
-                .expect("converges")
+            run_load_history(&problem, material.clone(), options, &samples).expect("converges")
         })
     });
     group.finish();

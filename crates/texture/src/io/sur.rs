@@ -54,8 +54,9 @@ pub fn read_sur(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// the compressed form (signature `DSCOMPRESSED`), PC
 /// byte order (format 0, little-endian), one object (the first is read) of
 /// type surface (2) or profile (1), 16- or 32-bit signed integer points.
-/// Header fields used (byte offsets): 98 bits per point (i16), 100 minimum
-/// point (i32), 86 non-measured-points flag (i16), 108 points per line `nx`
+/// Header fields used (byte offsets): 14 number of objects (i16), 98 bits
+/// per point (i16), 100/104 minimum/maximum point (i32, must fit the bit
+/// depth), 86 non-measured-points flag (i16), 108 points per line `nx`
 /// (i32), 112 number of lines `ny` (i32), 120/124/128 spacings x/y/z (f32),
 /// 180/196/212 units of the x/y/z steps (16 Latin-1 chars: m, mm, µm, nm,
 /// ...), 334/336 comment and private-zone lengths (i16), 474 z offset (f32,
@@ -76,6 +77,11 @@ pub fn read_sur(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// limit of its announced size, which it must fill exactly. A decompression
 /// bomb thus costs at most the memory of the announced surface, and only
 /// once that much compressed data is present.
+///
+/// Refused with a named error: a classic file whose points do not end the
+/// file (or, with several objects, are not followed by the next object's
+/// signature) — the header's grid or bit depth disagrees with the data — and
+/// a height that overflows to infinity (its index, column and row).
 ///
 /// Not supported (a [`TextureError::Unsupported`]): Macintosh byte order,
 /// float data, multi-layer or series objects, RGB surfaces.
@@ -125,6 +131,21 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
     };
     let non_measured = i16_at(86) != 0;
     let min_point = i32_at(100) as i64;
+    let (lo, hi) = if size == 2 {
+        (i16::MIN as i64, i16::MAX as i64)
+    } else {
+        (i32::MIN as i64, i32::MAX as i64)
+    };
+    let max_point = i32_at(104) as i64;
+    if non_measured && !(lo..=hi).contains(&min_point) || !(lo..=hi).contains(&max_point) {
+        return Err(TextureError::format(
+            FMT,
+            format!(
+                "minimum/maximum points {min_point}/{max_point} (bytes 100/104) do not fit the \
+                 header's {bits} bits per point (byte 98): the bit depth is wrong"
+            ),
+        ));
+    }
     let (nx, ny) = (i32_at(108), i32_at(112));
     if nx <= 0 || ny <= 0 {
         return Err(TextureError::format(FMT, format!("grid {nx} × {ny}")));
@@ -160,7 +181,30 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
             return Err(TextureError::format(
                 FMT,
                 format!(
-                    "truncated: {nx} × {ny} points of {bits} bits need {need} bytes, {avail} left"
+                    "truncated: {nx} × {ny} points of {bits} bits need {need} bytes, {avail} left \
+                     after byte {start}"
+                ),
+            ));
+        }
+        // A single-object file ends with its points, and in a multi-object
+        // file the next object's header follows them: anything else means the
+        // header's grid or bit depth does not describe the data (read as is,
+        // they would give a sheared or rescaled surface).
+        let objects = i16_at(14);
+        let next = start + need as usize;
+        let next_object = objects > 1 && b.get(next..next + 12) == Some(b"DIGITAL SURF");
+        if avail > need && !next_object {
+            let other = if bits == 16 { 32 } else { 16 };
+            let hint = if avail * bits as u64 == need * other as u64 {
+                format!(" (the data fit {other} bits per point: the bit depth is wrong)")
+            } else {
+                String::new()
+            };
+            return Err(TextureError::format(
+                FMT,
+                format!(
+                    "the header's {nx} × {ny} points of {bits} bits take {need} bytes from byte \
+                     {start}, the file holds {avail}{hint}"
                 ),
             ));
         }
@@ -173,11 +217,23 @@ pub fn sur_from_bytes(b: &[u8]) -> Result<HeightMap, TextureError> {
         } else {
             i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as i64
         };
-        h.push(if non_measured && raw == min_point - 2 {
-            f64::NAN
+        let z = (raw as f64 * sz + oz) * uz;
+        if non_measured && raw == min_point - 2 {
+            h.push(f64::NAN);
+        } else if z.is_finite() {
+            h.push(z);
         } else {
-            (raw as f64 * sz + oz) * uz
-        });
+            let k = h.len();
+            return Err(TextureError::format(
+                FMT,
+                format!(
+                    "point {k} (column {}, row {}) is {z}: the z scale {sz} and offset {oz} \
+                     overflow",
+                    k % nx,
+                    k / nx
+                ),
+            ));
+        }
     }
     HeightMap::from_nan_heights(nx, ny, dx, dy, h)
         .map_err(|e| TextureError::format(FMT, e.to_string()))

@@ -193,7 +193,10 @@ fn check_md5(what: &str, stored: &str, content: &[u8]) -> Result<(), TextureErro
 /// least significant first, 1 = valid). Checked: the MD5 of the point data
 /// (`MD5ChecksumPointData`), of the validity buffer
 /// (`MD5ChecksumValidPoints`), and of `main.xml` against
-/// `md5_checksum.hex`, each when present.
+/// `md5_checksum.hex`, each when present. Refused with a named error: an
+/// infinite height (its index, column, row and byte offset), and point data
+/// whose byte count disagrees with the matrix size times the declared type's
+/// width (saying which type the bytes would fit).
 ///
 /// Not supported (a [`TextureError::Unsupported`]): point lists, data
 /// inside the XML (`DataList`), absolute x/y axes, `SizeZ > 1`.
@@ -258,13 +261,35 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
     })?;
     let data_name = text(need(link, &["PointDataLink"])?).to_string();
     let expected = (n as u64) * ztype.size() as u64;
-    let data = read_entry(&mut zip, &data_name, expected)?
+    // Read up to the widest type's size so that a wrong declared type is
+    // reported with the type the bytes would fit, not as a bare overflow.
+    let widest = (n as u64) * X3pDataType::F64.size() as u64;
+    let data = read_entry(&mut zip, &data_name, widest)?
         .ok_or_else(|| TextureError::format(FMT, format!("the archive has no {data_name}")))?;
     if data.len() as u64 != expected {
+        let fits = [
+            X3pDataType::I16,
+            X3pDataType::I32,
+            X3pDataType::F32,
+            X3pDataType::F64,
+        ]
+        .into_iter()
+        .filter(|t| (n as u64) * t.size() as u64 == data.len() as u64)
+        .map(|t| t.code())
+        .collect::<Vec<_>>();
+        let hint = if fits.is_empty() {
+            "the matrix size or the data is wrong".to_string()
+        } else {
+            format!(
+                "the declared data type disagrees with the bytes, which fit type {}",
+                fits.join(" or ")
+            )
+        };
         return Err(TextureError::format(
             FMT,
             format!(
-                "{data_name} holds {} bytes, {nx} × {ny} points of type {} need {expected}",
+                "{data_name} holds {} bytes, {nx} × {ny} points of declared type {} need \
+                 {expected}: {hint}",
                 data.len(),
                 ztype.code()
             ),
@@ -306,7 +331,21 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
             }
         };
         let z = off + inc * raw;
-        if !z.is_finite() {
+        // NaN is the X3P convention for a missing float point (no validity
+        // buffer needed); an infinity is no height at all, so it is refused
+        // rather than turned into a silent hole.
+        if z.is_infinite() || (z.is_nan() && !raw.is_nan()) {
+            return Err(TextureError::format(
+                FMT,
+                format!(
+                    "{data_name}: point {k} (column {}, row {}, byte {}) is {z}, not a finite height",
+                    k % nx,
+                    k / nx,
+                    k * ztype.size()
+                ),
+            ));
+        }
+        if z.is_nan() {
             valid[k] = false;
         }
         heights.push(z);

@@ -1,0 +1,169 @@
+//! Readers refuse, with a named error, files whose numbers cannot be
+//! heights or whose header disagrees with the data (issue #14: such files
+//! used to be read anyway, as holes, sheared or rescaled surfaces).
+#![allow(clippy::unwrap_used)]
+
+use std::io::{Cursor, Read, Write};
+
+use tyreroad_texture::HeightMap;
+use tyreroad_texture::io::sur::{sur_from_bytes, sur_to_bytes};
+use tyreroad_texture::io::x3p::{X3pDataType, x3p_from_bytes, x3p_to_bytes};
+
+/// A 6 × 4 map of smooth heights (±0.5 mm), every point valid.
+fn map() -> HeightMap {
+    let h = (0..24).map(|k| 5e-4 * (k as f64 * 0.7).sin()).collect();
+    HeightMap::from_nan_heights(6, 4, 1e-4, 1e-4, h).unwrap()
+}
+
+/// Rebuild an X3P zip: `edit` may change an entry and returns whether to
+/// keep it.
+fn rebuild(bytes: &[u8], edit: impl Fn(&str, &mut Vec<u8>) -> bool) -> Vec<u8> {
+    let mut zin = zip::ZipArchive::new(Cursor::new(bytes)).unwrap();
+    let mut w = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let opts =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    for k in 0..zin.len() {
+        let mut e = zin.by_index(k).unwrap();
+        let name = e.name().unwrap().to_string();
+        let mut buf = Vec::new();
+        e.read_to_end(&mut buf).unwrap();
+        if edit(&name, &mut buf) {
+            w.start_file(name, opts).unwrap();
+            w.write_all(&buf).unwrap();
+        }
+    }
+    w.finish().unwrap().into_inner()
+}
+
+/// Edits main.xml with `f` and drops the checksums the edit invalidates, so
+/// that the reader reaches the check under test.
+fn edit_x3p(bytes: &[u8], f: impl Fn(String) -> String, data: impl Fn(&mut Vec<u8>)) -> Vec<u8> {
+    rebuild(bytes, |name, buf| match name {
+        "md5_checksum.hex" => false,
+        "main.xml" => {
+            let xml = String::from_utf8(buf.clone()).unwrap();
+            let start = xml.find("<MD5ChecksumPointData>");
+            let xml = match start {
+                Some(s) => {
+                    let end = xml[s..].find("</MD5ChecksumPointData>").unwrap() + s;
+                    format!("{}{}", &xml[..s], &xml[end + 23..])
+                }
+                None => xml,
+            };
+            *buf = f(xml).into_bytes();
+            true
+        }
+        "bindata/data.bin" => {
+            data(buf);
+            true
+        }
+        _ => true,
+    })
+}
+
+#[test]
+fn x3p_with_infinite_heights_is_refused_naming_the_point() {
+    let bytes = x3p_to_bytes(&map(), X3pDataType::F64).unwrap();
+    // Unedited but without checksums it still reads: the refusals below are
+    // the infinities', not the rebuild's.
+    assert!(x3p_from_bytes(&edit_x3p(&bytes, |x| x, |_| ())).is_ok());
+    for (k, v) in [(9usize, f64::INFINITY), (23, f64::NEG_INFINITY)] {
+        let bad = edit_x3p(
+            &bytes,
+            |x| x,
+            |d| d[8 * k..8 * k + 8].copy_from_slice(&v.to_le_bytes()),
+        );
+        let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("point {k} (column {}, row {}", k % 6, k / 6)),
+            "{e}"
+        );
+        assert!(
+            e.contains(&format!("byte {}", 8 * k)) && e.contains("inf"),
+            "{e}"
+        );
+    }
+    let bytes = x3p_to_bytes(&map(), X3pDataType::F32).unwrap();
+    let bad = edit_x3p(
+        &bytes,
+        |x| x,
+        |d| d[4..8].copy_from_slice(&f32::INFINITY.to_le_bytes()),
+    );
+    let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("point 1 (column 1, row 0, byte 4) is inf"),
+        "{e}"
+    );
+}
+
+#[test]
+fn x3p_whose_data_type_disagrees_with_its_bytes_is_refused() {
+    let bytes = x3p_to_bytes(&map(), X3pDataType::F64).unwrap();
+    let xml = {
+        let mut z = zip::ZipArchive::new(Cursor::new(&bytes[..])).unwrap();
+        let mut s = String::new();
+        z.by_name("main.xml")
+            .unwrap()
+            .read_to_string(&mut s)
+            .unwrap();
+        s
+    };
+    assert!(xml.contains("<DataType>D</DataType>"), "{xml}");
+    // 24 doubles declared as floats: twice the bytes type F needs.
+    let bad = edit_x3p(
+        &bytes,
+        |x| x.replace("<DataType>D</DataType>", "<DataType>F</DataType>"),
+        |_| (),
+    );
+    let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("holds 192 bytes") && e.contains("declared type F need 96"),
+        "{e}"
+    );
+    assert!(e.contains("fit type D"), "{e}");
+    // A byte count no type fits: the matrix size or the data is wrong.
+    let bad = edit_x3p(&bytes, |x| x, |d| d.truncate(100));
+    let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("holds 100 bytes") && e.contains("matrix size or the data"),
+        "{e}"
+    );
+}
+
+#[test]
+fn sur_whose_header_disagrees_with_its_data_is_refused() {
+    let good = sur_to_bytes(&map()).unwrap();
+    assert!(sur_from_bytes(&good).is_ok());
+    // Surplus bytes after the single object's points: the grid is wrong.
+    let mut bad = good.clone();
+    bad.extend_from_slice(&[0; 40]);
+    let e = sur_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("6 × 4 points of 32 bits take 96 bytes from byte 512, the file holds 136"),
+        "{e}"
+    );
+    // The header says 16 bits (min/max points set to fit) over 32-bit data:
+    // the data are twice what 16 bits take.
+    let mut bad = good.clone();
+    bad[98..100].copy_from_slice(&16i16.to_le_bytes());
+    bad[100..104].copy_from_slice(&(-32767i32).to_le_bytes());
+    bad[104..108].copy_from_slice(&32767i32.to_le_bytes());
+    let e = sur_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("fit 32 bits per point: the bit depth is wrong"),
+        "{e}"
+    );
+    // 16 bits with 32-bit minimum/maximum points: the bit depth is wrong.
+    let mut bad = good.clone();
+    bad[98..100].copy_from_slice(&16i16.to_le_bytes());
+    let e = sur_from_bytes(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("do not fit the header's 16 bits per point"),
+        "{e}"
+    );
+    // A second object's header after the points is not surplus data.
+    let mut two = good.clone();
+    two[14..16].copy_from_slice(&2i16.to_le_bytes());
+    two.extend_from_slice(&good);
+    assert!(sur_from_bytes(&two).is_ok());
+}
