@@ -24,19 +24,9 @@ pub struct ValidateArgs {
     /// Another static scenario to validate instead of the embedded paper case.
     #[arg(long)]
     pub scenario: Option<PathBuf>,
-    /// Instead: every fidelity rung against the BEM on seven road kinds at
-    /// three loads (docs/validation.md, "Fidelity on textures").
-    #[arg(long)]
-    pub textures: bool,
-    /// With `--textures`: cells per side of each texture (0.1 mm cells).
-    #[arg(long, default_value_t = 400)]
-    pub texture_cells: usize,
-    /// With `--textures`: only this road (its label, e.g. "chip seal").
-    #[arg(long)]
-    pub kind: Option<String>,
-    /// With `--textures`: skip the BEM resolution study.
-    #[arg(long)]
-    pub no_resolution: bool,
+    /// The texture validation's options (`--textures`).
+    #[command(flatten)]
+    pub textures: crate::validate_textures::TextureArgs,
 }
 
 struct Check {
@@ -47,8 +37,8 @@ struct Check {
 
 /// Runs the validation; fails if any check fails.
 pub fn run(args: &ValidateArgs) -> Result<()> {
-    if args.textures {
-        return crate::validate_textures::run(args);
+    if args.textures.textures {
+        return crate::validate_textures::run(&args.textures, &args.out);
     }
     let (text, origin) = match &args.scenario {
         Some(p) => (std::fs::read_to_string(p)?, p.display().to_string()),

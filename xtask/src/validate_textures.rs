@@ -8,6 +8,7 @@
 //! same surfaces as `cargo xtask run`.
 
 use std::fmt::Write as _;
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -18,8 +19,6 @@ use tyreroad::fidelity::{CalibrationOptions, RUNGS};
 use tyreroad::multipoint::SolverOptions;
 use tyreroad::scenario::Scenario;
 use tyreroad::scenario::output::OutputSet;
-
-use crate::validate::ValidateArgs;
 
 /// Targets of issue 15 for the best rung: approach, area, 10 mm block,
 /// 5 mm block (fractions), and the cost ratio.
@@ -75,9 +74,27 @@ fn pct(v: f64) -> String {
     }
 }
 
+/// Options of `cargo xtask validate --textures`.
+#[derive(Debug, clap::Args)]
+pub struct TextureArgs {
+    /// Instead: every fidelity rung against the BEM on seven road kinds at
+    /// three loads (docs/validation.md, "Fidelity on textures").
+    #[arg(long)]
+    pub textures: bool,
+    /// With `--textures`: cells per side of each texture (0.1 mm cells).
+    #[arg(long, default_value_t = 400)]
+    pub texture_cells: usize,
+    /// With `--textures`: only this road (its label, e.g. "chip seal").
+    #[arg(long)]
+    pub kind: Option<String>,
+    /// With `--textures`: skip the BEM resolution study.
+    #[arg(long)]
+    pub no_resolution: bool,
+}
+
 /// Runs the texture validation; fails only if a case cannot be run at all
 /// (a rung's failed load is a row that says so).
-pub fn run(args: &ValidateArgs) -> Result<()> {
+pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     let cells = args.texture_cells;
     if !(16..=2000).contains(&cells) {
         bail!("--texture-cells {cells}: expected 16 to 2000");
@@ -144,7 +161,7 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     report.push_str(&tables(&results, cells, spacing_mm)?);
     println!("\n== all roads ==");
     print!("{report}");
-    let mut set = OutputSet::new(&args.out)?;
+    let mut set = OutputSet::new(out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);
     Ok(())

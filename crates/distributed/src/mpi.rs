@@ -17,7 +17,8 @@ pub use mpi::topology::SimpleCommunicator;
 use crate::DistributedError;
 use crate::plan::rank_range;
 use crate::sweep::{SweepRow, SweepRun};
-use crate::wire::{decode_records, decode_row, encode_records, encode_row};
+use crate::sweep::{decode_row, encode_row};
+use crate::wire::{decode_records, encode_records};
 
 /// The job number that tells a sweep worker to stop.
 pub const STOP: u64 = u64::MAX;

@@ -442,6 +442,24 @@ where
     Ok(pool.install(|| runs.par_iter().map(&run_one).collect()))
 }
 
+/// A sweep row, as a worker sends it to rank 0.
+pub fn encode_row(row: &SweepRow) -> Vec<u8> {
+    let mut w = Writer::default();
+    row.write(&mut w);
+    w.0
+}
+
+/// The inverse of [`encode_row`].
+///
+/// # Errors
+/// [`DistributedError::Wire`] for a truncated or damaged message.
+pub fn decode_row(bytes: &[u8]) -> Result<SweepRow, DistributedError> {
+    let mut r = Reader::new(bytes);
+    let row = SweepRow::read(&mut r)?;
+    r.finished()?;
+    Ok(row)
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {
@@ -530,13 +548,10 @@ mod tests {
             outcome: Err("load: must be > 0, \"x\"".into()),
         };
         for row in [&ok, &bad] {
-            assert_eq!(
-                &crate::wire::decode_row(&crate::wire::encode_row(row)).unwrap(),
-                row
-            );
+            assert_eq!(&decode_row(&encode_row(row)).unwrap(), row);
         }
-        let bytes = crate::wire::encode_row(&ok);
-        assert!(crate::wire::decode_row(&bytes[..bytes.len() - 3]).is_err());
+        let bytes = encode_row(&ok);
+        assert!(decode_row(&bytes[..bytes.len() - 3]).is_err());
         let table = table_csv(&[ok, bad]);
         let lines: Vec<&str> = table.lines().collect();
         assert_eq!(

@@ -5,7 +5,6 @@
 use tyreroad_rolling::{Recovery, RollingResult, StepRecord, StepStatus};
 
 use crate::DistributedError;
-use crate::sweep::SweepRow;
 
 /// Appends values to a buffer.
 #[derive(Default)]
@@ -202,24 +201,6 @@ pub fn decode_records(bytes: &[u8]) -> Result<RollingResult, DistributedError> {
         resumed,
         input_hash,
     })
-}
-
-/// A sweep row, as a worker sends it to rank 0.
-pub fn encode_row(row: &SweepRow) -> Vec<u8> {
-    let mut w = Writer::default();
-    row.write(&mut w);
-    w.0
-}
-
-/// The inverse of [`encode_row`].
-///
-/// # Errors
-/// [`DistributedError::Wire`] for a truncated or damaged message.
-pub fn decode_row(bytes: &[u8]) -> Result<SweepRow, DistributedError> {
-    let mut r = Reader::new(bytes);
-    let row = SweepRow::read(&mut r)?;
-    r.finished()?;
-    Ok(row)
 }
 
 #[cfg(test)]
