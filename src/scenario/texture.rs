@@ -14,7 +14,7 @@ use super::statics::{StaticResult, run_static_problem, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
 use crate::fidelity::{CalibrationOptions, Calibrator, LawSource, calibrated_set};
-use crate::texture_road::{TextureLaw, TextureRoad, texture_road};
+use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
 /// What the segmentation made of a height map.
@@ -93,7 +93,7 @@ pub(crate) fn run_texture_static(
     let loads = static_loads(scenario)?;
     let map = Arc::new(texture.height_map(base_dir)?);
     let material = scenario.material()?;
-    let road = texture_road(&map, material, &texture.road_options())?;
+    let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
     let shapes = road.local_shapes(&map)?;
     let positions = road.set.positions().to_vec();
@@ -163,6 +163,30 @@ pub(crate) fn run_texture_static(
     })
 }
 
+/// The texture's asperities, with "no asperity" said in the scenario's
+/// terms: which keys decide it and what the map was.
+fn scenario_road(
+    map: &HeightMap,
+    material: Material,
+    texture: &TextureSpec,
+) -> Result<TextureRoad, ScenarioError> {
+    texture_road(map, material, &texture.road_options()).map_err(|e| match e {
+        TextureRoadError::NoAsperity { segmented } => ScenarioError::Value {
+            key: "[texture] min_prominence, min_area (and the map's size)".into(),
+            value: format!(
+                "{} × {} points at {:e} × {:e} m: {segmented} segmented, none with a depth range",
+                map.nx(),
+                map.ny(),
+                map.dx(),
+                map.dy()
+            ),
+            expected: "a map large enough to hold asperities, or lower min_prominence / min_area"
+                .into(),
+        },
+        other => other.into(),
+    })
+}
+
 /// The road of a `[texture]` rolling scenario: the texture's asperities with
 /// x along the map's x from its first column and y centred on the map's
 /// mid-width, so a path at `lateral = 0` runs down the middle of the
@@ -173,7 +197,7 @@ pub(crate) fn texture_road_set(
     material: Material,
 ) -> Result<(AsperitySet<TextureLaw>, TextureSummary), ScenarioError> {
     let map = texture.height_map(base_dir)?;
-    let road = texture_road(&map, material, &texture.road_options())?;
+    let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let set = road
