@@ -23,8 +23,15 @@ const POLL: Duration = Duration::from_millis(50);
 pub fn run<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<T> {
     let cancel = AtomicBool::new(false);
     let mut signal: Option<PyErr> = None;
+    // The worker wakes the waiting thread when it is done, so a short job
+    // does not wait out the rest of a polling slice.
+    let waiter = std::thread::current();
     let value = std::thread::scope(|scope| {
-        let handle = scope.spawn(|| work(&cancel));
+        let handle = scope.spawn(|| {
+            let value = work(&cancel);
+            waiter.unpark();
+            value
+        });
         while !handle.is_finished() {
             py.detach(|| std::thread::park_timeout(POLL));
             if signal.is_none()
