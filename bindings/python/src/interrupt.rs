@@ -43,6 +43,14 @@ pub fn run<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) 
         }
         handle.join()
     });
+    // A signal that arrived after the last check, while the work was
+    // finishing, is still the user's Ctrl-C: raise it here, not at some
+    // later, unrelated line of their script.
+    if signal.is_none()
+        && let Err(e) = py.check_signals()
+    {
+        signal = Some(e);
+    }
     if let Some(e) = signal {
         return Err(e);
     }
