@@ -7,6 +7,7 @@ maturin first: .ci/run)."""
 import _thread
 import math
 import os
+import signal
 import threading
 import time
 from pathlib import Path
@@ -276,6 +277,14 @@ def test_ctrl_c_interrupts_a_rolling_run_between_steps():
             _thread.interrupt_main()  # what Ctrl-C does
 
     assert threading.current_thread() is threading.main_thread()
-    with pytest.raises(KeyboardInterrupt):
-        tr.run_scenario(ROLLING, progress=interrupt)
+    # A process started in the background by a non-interactive shell (as a
+    # CI job may be) inherits SIGINT ignored, and Python then installs no
+    # handler: interrupt_main() would do nothing. Ctrl-C's handler, as an
+    # interactive session has it, for the length of this test.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            tr.run_scenario(ROLLING, progress=interrupt)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert max(seen) < 40
