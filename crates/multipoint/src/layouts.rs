@@ -315,3 +315,35 @@ pub fn folding_field(
     let law = PotentialLaw::sphere(ball, material);
     Problem::new(positions, gaps, vec![law; 36], material)
 }
+
+/// 400 balls on a 20 × 20 grid of 1.5 mm pitch, each jittered by up to
+/// 0.2 mm, with gaps spread over 0.3 mm and radii over 0.5–2.5 mm: at a few
+/// hundred newtons neighbouring patches come within their radii of each
+/// other, many contacts enter during a solve. The draws, from `uniform`
+/// (values in `[0, 1)`), are taken in a fixed order (positions, gaps, radii),
+/// so a seeded generator gives the same layout everywhere.
+///
+/// # Errors
+/// As [`Problem::from_heights`] (never, for draws in `[0, 1)`).
+pub fn dense_sphere_grid(
+    material: Material,
+    mut uniform: impl FnMut() -> f64,
+) -> Result<Problem<PotentialLaw<Sphere>>, SolveError> {
+    let mut positions = Vec::with_capacity(400);
+    for j in 0..20 {
+        for i in 0..20 {
+            let x = f64::from(i) * 1.5e-3 + 2e-4 * uniform();
+            let y = f64::from(j) * 1.5e-3 + 2e-4 * uniform();
+            positions.push([x, y]);
+        }
+    }
+    let heights: Vec<f64> = (0..positions.len()).map(|_| 3e-4 * uniform()).collect();
+    let laws = (0..positions.len())
+        .map(|_| {
+            Sphere::new(0.5e-3 + 2e-3 * uniform())
+                .map(|ball| PotentialLaw::sphere(ball, material))
+                .map_err(|e| SolveError::InvalidInput(e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Problem::from_heights(positions, &heights, laws, material)
+}

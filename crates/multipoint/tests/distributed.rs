@@ -31,26 +31,7 @@ fn distributed() -> SolverOptions {
 /// within their radii of each other.
 fn dense_layout() -> Problem<PotentialLaw<Sphere>> {
     let mut seed = 42;
-    let mut positions = Vec::new();
-    for j in 0..20 {
-        for i in 0..20 {
-            positions.push([
-                i as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
-                j as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
-            ]);
-        }
-    }
-    let n = positions.len();
-    let heights: Vec<f64> = (0..n).map(|_| 3e-4 * lcg(&mut seed)).collect();
-    let laws = (0..n)
-        .map(|_| {
-            PotentialLaw::sphere(
-                Sphere::new(0.5e-3 + 2e-3 * lcg(&mut seed)).unwrap(),
-                rubber(),
-            )
-        })
-        .collect();
-    Problem::from_heights(positions, &heights, laws, rubber()).unwrap()
+    layouts::dense_sphere_grid(rubber(), || lcg(&mut seed)).unwrap()
 }
 
 #[test]

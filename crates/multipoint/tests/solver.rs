@@ -165,25 +165,11 @@ fn dense_random_layout_converges_from_a_cold_start() {
     // 400 balls at 1.5 mm pitch with heights spread over 0.3 mm, pressed hard:
     // strong coupling, many contacts entering during the solve.
     let mut seed = 42;
-    let mut positions = Vec::new();
-    for j in 0..20 {
-        for i in 0..20 {
-            positions.push([
-                i as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
-                j as f64 * 1.5e-3 + 2e-4 * lcg(&mut seed),
-            ]);
-        }
-    }
-    let n = positions.len();
-    let heights: Vec<f64> = (0..n).map(|_| 3e-4 * lcg(&mut seed)).collect();
-    let laws = (0..n)
-        .map(|_| ball(0.5e-3 + 2e-3 * lcg(&mut seed)))
-        .collect();
-    let problem = Problem::from_heights(positions, &heights, laws, rubber()).unwrap();
+    let problem = layouts::dense_sphere_grid(rubber(), || lcg(&mut seed)).unwrap();
     for load in [1.0, 50.0, 400.0] {
         let s = solve(&problem, Control::Load(load), &SolverOptions::default()).unwrap();
         assert!(rel(s.total_force(), load) < 1e-10);
-        assert!(s.contact_count() > 0 && s.contact_count() <= n);
+        assert!(s.contact_count() > 0 && s.contact_count() <= problem.len());
         assert_satisfies_equations(&problem, &s, 1e-9);
     }
 }

@@ -321,7 +321,8 @@ fn run_chunk<L: ContactLaw + Sync>(
 mod tests {
     use std::time::Duration;
 
-    use tyreroad_contact_law::Material;
+    use tyreroad_asperity::Sphere;
+    use tyreroad_contact_law::{Material, PotentialLaw};
 
     use super::*;
     use crate::step::FAIL_STEP;
@@ -331,16 +332,17 @@ mod tests {
         (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300)
     }
 
-    /// One step forced to fail: the run completes, that step is marked
-    /// failed with NaN values, the steps before it are bit for bit those of
-    /// an uninterrupted run and the ones after it (the next cold-starts)
-    /// equal them to the solver tolerance; a checkpoint keeps the failed
-    /// step and resumes bit for bit.
-    #[test]
-    fn a_failed_step_is_recorded_and_the_run_goes_on() -> Result<(), Box<dyn std::error::Error>> {
-        let rubber = Material::new(6.54e6, 0.5)?;
+    type SphereRoad = Road<PotentialLaw<Sphere>>;
+
+    /// A tyre at 120 N rolled in 2 mm steps from x = 0.05 m to `end` over a
+    /// 0.2 × 0.06 m synthetic sphere road drawn from `seed`.
+    fn small_run(
+        rubber: Material,
+        seed: u64,
+        end: f64,
+    ) -> Result<(SphereRoad, RollingConfig), Box<dyn std::error::Error>> {
         let road = SyntheticRoad {
-            seed: 7,
+            seed,
             length: 0.2,
             width: 0.06,
             density: 30_000.0,
@@ -355,10 +357,22 @@ mod tests {
         };
         let config = RollingConfig::new(
             tyre,
-            [0.05, 0.09, 2e-3],
+            [0.05, end, 2e-3],
             13.9,
             crate::RollingControl::Load(120.0),
         );
+        Ok((road, config))
+    }
+
+    /// One step forced to fail: the run completes, that step is marked
+    /// failed with NaN values, the steps before it are bit for bit those of
+    /// an uninterrupted run and the ones after it (the next cold-starts)
+    /// equal them to the solver tolerance; a checkpoint keeps the failed
+    /// step and resumes bit for bit.
+    #[test]
+    fn a_failed_step_is_recorded_and_the_run_goes_on() -> Result<(), Box<dyn std::error::Error>> {
+        let rubber = Material::new(6.54e6, 0.5)?;
+        let (road, config) = small_run(rubber, 7, 0.09)?;
         let clean = roll(&road, rubber, &config, &RunOptions::default())?;
         assert!(clean.all_converged());
         let failed_at = 7;
@@ -410,26 +424,7 @@ mod tests {
     #[test]
     fn ranges_with_warmup_equal_the_whole_run() -> Result<(), Box<dyn std::error::Error>> {
         let rubber = Material::new(6.54e6, 0.5)?;
-        let road = SyntheticRoad {
-            seed: 11,
-            length: 0.2,
-            width: 0.06,
-            density: 30_000.0,
-            ..SyntheticRoad::default()
-        }
-        .sphere_road(rubber)?;
-        let tyre = Tread::Tyre {
-            radius_x: 0.3,
-            radius_y: 0.2,
-            length: 0.1,
-            width: 0.06,
-        };
-        let config = RollingConfig::new(
-            tyre,
-            [0.05, 0.1, 2e-3],
-            13.9,
-            crate::RollingControl::Load(120.0),
-        );
+        let (road, config) = small_run(rubber, 11, 0.1)?;
         let whole = roll(&road, rubber, &config, &RunOptions::default())?;
         let n = whole.steps.len();
         for warmup in [0, 3] {
