@@ -7,7 +7,7 @@
 //! workers send rank 0 a request (empty) or a finished row, and get back
 //! the next run's number or [`STOP`].
 
-use mpi::traits::{Communicator, Destination, Source};
+use mpi::traits::{Communicator, CommunicatorCollectives, Destination, Source};
 use tyreroad::scenario::{RollingRun, RunOptions, Scenario};
 use tyreroad_rolling::RollingResult;
 
@@ -55,6 +55,13 @@ pub fn roll(
     warmup: usize,
 ) -> Result<Option<RollingRun>, DistributedError> {
     let (rank, ranks) = rank_of(world);
+    if let (0, Some(dir)) = (rank, &options.checkpoint_dir) {
+        // Killed runs' temporary files go before any rank writes its own
+        // there. An unlistable directory is reported by the ranks' own
+        // checkpoint load, so this error adds nothing.
+        let _ = tyreroad_rolling::remove_unfinished_checkpoints(dir);
+    }
+    world.barrier();
     let mine = scenario.rolling_steps().and_then(|total| {
         let range = rank_range(total, rank, ranks);
         if range.is_empty() {

@@ -217,6 +217,31 @@ pub(crate) fn save(
     Ok(())
 }
 
+/// Removes the temporary files that killed runs left in a checkpoint
+/// directory (written, never renamed, so never read). Call it only while no
+/// other process writes there: [`crate::roll`] does, as the directory's sole
+/// writer; a distributed job's coordinator does before its ranks start.
+/// A missing directory holds nothing to remove.
+///
+/// # Errors
+/// [`RollingError::Checkpoint`] when the directory exists but cannot be
+/// listed.
+pub fn remove_unfinished(dir: &Path) -> Result<(), RollingError> {
+    let entries = match fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(io_error(dir, e)),
+    };
+    for entry in entries {
+        let entry = entry.map_err(|e| io_error(dir, e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') && name.contains(".ckpt.tmp-") {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+    Ok(())
+}
+
 /// What a checkpoint directory holds for one input hash.
 #[derive(Default)]
 pub(crate) struct Loaded {
@@ -244,9 +269,10 @@ pub(crate) struct Expect<'c> {
 }
 
 /// Every record and state of every checkpoint file of `hash` in the
-/// directory (none when the directory does not exist); temporary files left
-/// by a killed run are removed. A file that is
-/// damaged or disagrees with the inputs is refused
+/// directory (none when the directory does not exist). Temporary files are
+/// skipped, never removed here: the ranks of one job share the directory and
+/// another rank may be writing one ([`remove_unfinished`] is the sole
+/// writer's cleanup). A file that is damaged or disagrees with the inputs is refused
 /// ([`RollingError::CheckpointRejected`]).
 pub(crate) fn load(ck: &CheckpointOptions, expect: &Expect<'_>) -> Result<Loaded, RollingError> {
     let entries = match fs::read_dir(&ck.dir) {
@@ -259,12 +285,6 @@ pub(crate) fn load(ck: &CheckpointOptions, expect: &Expect<'_>) -> Result<Loaded
     for entry in entries {
         let entry = entry.map_err(|e| io_error(&ck.dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        if name.starts_with('.') && name.contains(".ckpt.tmp-") {
-            // A file a killed run was writing (never renamed, so never read):
-            // removed so that the directory holds only whole checkpoints.
-            let _ = fs::remove_file(entry.path());
-            continue;
-        }
         if !(name.starts_with(&prefix) && name.ends_with(".ckpt")) {
             continue;
         }

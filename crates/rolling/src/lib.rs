@@ -121,7 +121,7 @@ mod step;
 mod synth;
 mod tread;
 
-pub use checkpoint::input_hash;
+pub use checkpoint::{input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,

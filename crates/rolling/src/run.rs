@@ -85,6 +85,10 @@ pub fn roll<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
 ) -> Result<RollingResult, RollingError> {
     config.validate()?;
+    if let Some(ck) = options.checkpoint {
+        // The whole path in this process: no one else writes there.
+        checkpoint::remove_unfinished(&ck.dir)?;
+    }
     roll_range(road, material, config, 0..config.steps(), 0, options)
 }
 
@@ -100,7 +104,11 @@ pub fn roll<L: ContactLaw + Sync>(
 /// `resumed` counts the kept steps taken from the checkpoint. Checkpoints
 /// are the same files as [`roll`]'s (keyed by the inputs' hash, one per
 /// chunk), so ranks sharing a checkpoint directory never write the same
-/// file and a resumed job may use another number of ranks.
+/// file and a resumed job may use another number of ranks. Unlike
+/// [`roll`], it leaves the temporary files of killed runs in place (another
+/// rank may be writing one): the job's coordinator removes them with
+/// [`remove_unfinished_checkpoints`](crate::remove_unfinished_checkpoints)
+/// before the ranks start.
 ///
 /// Errors: as [`roll`], and [`RollingError::InvalidInput`] for a range that
 /// is empty or runs past the path.

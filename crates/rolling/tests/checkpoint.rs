@@ -233,3 +233,32 @@ fn damaged_or_edited_checkpoints_are_refused() -> TestResult {
     std::fs::remove_dir_all(&base)?;
     Ok(())
 }
+
+/// Regression (an MPI job's resume lost a rank's checkpoint): a rank's
+/// `roll_range` must leave another writer's temporary file alone, since
+/// that rank may rename it any moment; only the sole writer (`roll`)
+/// removes the temporary files that killed runs left.
+#[test]
+fn a_part_leaves_other_writers_temporary_files_and_the_whole_run_removes_them() -> TestResult {
+    let road = road();
+    let base = std::env::temp_dir().join(format!("tyreroad-ckpt-shared-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(&base)?;
+    let other = base.join(".00000000000000ab-0-9.ckpt.tmp-4242");
+    std::fs::write(&other, "being written by another rank")?;
+    let ck = CheckpointOptions {
+        dir: base.clone(),
+        interval: Duration::ZERO,
+    };
+    let options = RunOptions {
+        checkpoint: Some(&ck),
+        ..RunOptions::default()
+    };
+    let part = tyreroad_rolling::roll_range(&road, rubber(), &config(), 0..4, 0, &options)?;
+    assert_eq!(part.steps.len(), 4);
+    assert!(other.exists(), "a part removed another writer's file");
+    run(&road, &base)?;
+    assert!(!other.exists(), "the whole run left a killed run's file");
+    std::fs::remove_dir_all(&base)?;
+    Ok(())
+}
