@@ -87,15 +87,31 @@ pub fn roll(
     let mut resumed = 0;
     let mut meta = None;
     let mut first_error = None;
-    for r in 0..ranks {
-        let bytes = if r == 0 {
-            message(&mine)
-        } else {
-            world
-                .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
-                .receive_vec::<u8>()
-                .0
-        };
+    // Rank 0's own records are moved, not encoded: it holds one copy of
+    // each record, and one rank's message at a time.
+    match mine {
+        Ok(Some(part)) => {
+            resumed += part.resumed;
+            meta = Some((part.sample_rate, part.input_hash));
+            steps = part.steps;
+        }
+        Ok(None) => {}
+        Err(ref e) => {
+            first_error = Some(DistributedError::Rank {
+                rank: 0,
+                message: e.to_string(),
+            });
+        }
+    }
+    // Room for the whole path at once (growing by doubling would hold up to
+    // twice the records at the last copy).
+    let total = scenario.rolling_steps().unwrap_or(0);
+    steps.reserve_exact(total.saturating_sub(steps.len()));
+    for r in 1..ranks {
+        let bytes = world
+            .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
+            .receive_vec::<u8>()
+            .0;
         match bytes.split_first() {
             Some((1, [])) => {}
             Some((1, body)) => {

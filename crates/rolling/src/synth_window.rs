@@ -461,6 +461,24 @@ mod tests {
         ));
     }
 
+    /// The certificate fires: with no halo a tile's decisions near its
+    /// edges depend on unseen neighbours and the replay says so; with the
+    /// whole road as halo it never does.
+    #[test]
+    fn a_too_narrow_halo_is_detected() {
+        let road = SyntheticRoad {
+            seed: 5,
+            length: 0.2,
+            width: 0.03,
+            ..SyntheticRoad::default()
+        };
+        let g = Grid::of(&road);
+        let cap = 4 * (road.density * road.length * road.width) as usize;
+        let mut bits = Bits::new(cap);
+        assert!(!replay_tile(&road, g, (40, 60), 0, cap, &mut bits));
+        assert!(replay_tile(&road, g, (40, 60), g.nx, cap, &mut bits));
+    }
+
     #[test]
     fn bits_find_the_nth_set_bit_and_clear_a_tail() {
         let mut b = Bits::new(200);
