@@ -172,20 +172,8 @@ pub(crate) fn rolling_on_road(
                 // A rank's part: only the window of the road its steps
                 // touch, the same summits by the same ids as the whole
                 // road's (docs/distributed.md, "Memory per rank").
-                What::Part { ref steps, warmup } => {
-                    let config = scenario.rolling_config()?;
-                    let window = part_window(&config, steps, warmup);
-                    let road = synth.window_road(material, window)?;
-                    let count = road.global_len();
-                    roll_road(
-                        scenario,
-                        &road,
-                        RoadSummary::Synthetic { count },
-                        material,
-                        spec,
-                        options,
-                        what,
-                    )
+                What::Part { steps, warmup } => {
+                    roll_synthetic_part(scenario, &synth, material, spec, options, steps, warmup)
                 }
                 // Records rolled elsewhere: the outputs need the summits'
                 // positions and heights, not their laws.
@@ -300,6 +288,61 @@ fn roll_road<L: ContactLaw + Sync>(
     };
     let summits = (road.positions().to_vec(), road.heights().to_vec());
     finish(config, spec, summary, summits, result)
+}
+
+/// Path length (m) rolled on one window of a synthetic road by a rank:
+/// the window is this plus a footprint and its margin, so a rank's memory
+/// does not grow with its part (docs/distributed.md, "Memory per rank").
+const WINDOW_PATH: f64 = 0.25;
+
+/// One rank's part on a synthetic road: the part cut into pieces of
+/// [`WINDOW_PATH`], each rolled (with its `warmup` steps) on the window of
+/// the road its footprints select from, built from the keep decisions
+/// found once for the whole road.
+fn roll_synthetic_part(
+    scenario: &Scenario,
+    synth: &rolling::SyntheticRoad,
+    material: Material,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    steps: std::ops::Range<usize>,
+    warmup: usize,
+) -> Result<Rolled, ScenarioError> {
+    let config = scenario.rolling_config()?;
+    let windows = synth.windows(material)?;
+    let count = windows.count();
+    let per_window = ((WINDOW_PATH / config.step).floor() as usize).max(1);
+    let mut part: Option<rolling::RollingResult> = None;
+    let mut start = steps.start;
+    while start < steps.end {
+        let piece = start..(start + per_window).min(steps.end);
+        start = piece.end;
+        let road = windows.window(part_window(&config, &piece, warmup))?;
+        let what = What::Part {
+            steps: piece,
+            warmup,
+        };
+        let summary = RoadSummary::Synthetic { count };
+        let Rolled::Part(rolled) =
+            roll_road(scenario, &road, summary, material, spec, options, what)?
+        else {
+            return Err(ScenarioError::Invalid("a part gave a whole run".into()));
+        };
+        match &mut part {
+            None => {
+                // Room for the whole part at once (no doubling copies).
+                let mut first = rolled;
+                first.steps.reserve_exact(steps.len() - first.steps.len());
+                part = Some(first);
+            }
+            Some(all) => {
+                all.steps.extend(rolled.steps);
+                all.resumed += rolled.resumed;
+            }
+        }
+    }
+    part.map(Rolled::Part)
+        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
 }
 
 /// The x-range of the road that the steps `steps` and their `warmup`

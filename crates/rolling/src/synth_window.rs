@@ -302,7 +302,9 @@ impl SyntheticRoad {
     /// The summits of [`SyntheticRoad::generate`] with `x0 ≤ x ≤ x1` as a
     /// window of the whole road ([`Road::window_of`]): the same ids,
     /// positions, heights and laws, the whole road's highest summit and
-    /// digest, built without holding the whole road (module docs).
+    /// digest, built without holding the whole road (module docs). For
+    /// several windows of one road, [`SyntheticRoad::windows`] finds the
+    /// keep decisions and the digest once.
     ///
     /// # Errors
     /// [`RollingError::InvalidInput`] for malformed parameters, a road that
@@ -310,8 +312,19 @@ impl SyntheticRoad {
     pub fn window_road(
         &self,
         material: Material,
-        [x0, x1]: [f64; 2],
+        window: [f64; 2],
     ) -> Result<Road<PotentialLaw<Sphere>>, RollingError> {
+        self.windows(material)?.window(window)
+    }
+
+    /// What every window of the road needs from the whole road: the keep
+    /// decisions (one bit per candidate), the highest summit and the
+    /// digest, found by one pass over the road (module docs).
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] for malformed parameters or a road
+    /// that keeps no summit.
+    pub fn windows(&self, material: Material) -> Result<SyntheticWindows, RollingError> {
         let plan = self.plan()?;
         if plan.count == 0 {
             return Err(RollingError::InvalidInput(
@@ -320,36 +333,26 @@ impl SyntheticRoad {
         }
         let mut digest = RoadDigest::new(plan.count);
         let mut top = f64::NEG_INFINITY;
-        let (mut ids, mut positions, mut heights, mut laws) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut bad_radius = None;
-        self.stream(&plan, |id, p, z, radius| {
-            let law = match Sphere::new(radius) {
-                Ok(s) => PotentialLaw::sphere(s, material),
-                Err(e) => {
-                    bad_radius.get_or_insert(format!("radius {radius}: {e}"));
-                    return;
-                }
-            };
-            digest.push(p, z, &law);
-            top = top.max(z);
-            if (x0..=x1).contains(&p[0]) {
-                ids.push(id);
-                positions.push(p);
-                heights.push(z);
-                laws.push(law);
+        self.stream(&plan, |_, p, z, radius| match Sphere::new(radius) {
+            Ok(s) => {
+                digest.push(p, z, &PotentialLaw::sphere(s, material));
+                top = top.max(z);
+            }
+            Err(e) => {
+                bad_radius.get_or_insert(format!("radius {radius}: {e}"));
             }
         });
         if let Some(why) = bad_radius {
             return Err(RollingError::InvalidInput(format!("synthetic road: {why}")));
         }
-        let set = AsperitySet::new(positions, heights, laws).map_err(|e| {
-            RollingError::InvalidInput(format!(
-                "synthetic road window x ∈ [{x0}, {x1}] m: {e} (the road spans x ∈ [0, {}) m)",
-                self.length
-            ))
-        })?;
-        Road::window_of(set, ids, plan.count, top, digest.finish())
+        Ok(SyntheticWindows {
+            road: *self,
+            material,
+            plan,
+            top,
+            digest: digest.finish(),
+        })
     }
 
     /// Every summit's position `(x, y)` and height (m), by id, as
@@ -367,6 +370,60 @@ impl SyntheticRoad {
             heights.push(z);
         });
         Ok((positions, heights))
+    }
+}
+
+/// Windows of one synthetic road ([`SyntheticRoad::windows`]): each
+/// window streams the road's candidates once and keeps its own summits
+/// (`O(candidates)` time, memory of the window only).
+pub struct SyntheticWindows {
+    road: SyntheticRoad,
+    material: Material,
+    plan: Plan,
+    top: f64,
+    digest: u64,
+}
+
+impl SyntheticWindows {
+    /// Summits on the whole road.
+    pub fn count(&self) -> usize {
+        self.plan.count
+    }
+
+    /// The summits with `x0 ≤ x ≤ x1`, as [`SyntheticRoad::window_road`].
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] when the window holds no summit.
+    pub fn window(&self, [x0, x1]: [f64; 2]) -> Result<Road<PotentialLaw<Sphere>>, RollingError> {
+        let (mut ids, mut positions, mut heights, mut laws) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut bad_radius = None;
+        self.road.stream(&self.plan, |id, p, z, radius| {
+            if !(x0..=x1).contains(&p[0]) {
+                return;
+            }
+            match Sphere::new(radius) {
+                Ok(s) => {
+                    ids.push(id);
+                    positions.push(p);
+                    heights.push(z);
+                    laws.push(PotentialLaw::sphere(s, self.material));
+                }
+                Err(e) => {
+                    bad_radius.get_or_insert(format!("radius {radius}: {e}"));
+                }
+            }
+        });
+        if let Some(why) = bad_radius {
+            return Err(RollingError::InvalidInput(format!("synthetic road: {why}")));
+        }
+        let set = AsperitySet::new(positions, heights, laws).map_err(|e| {
+            RollingError::InvalidInput(format!(
+                "synthetic road window x ∈ [{x0}, {x1}] m: {e} (the road spans x ∈ [0, {}) m)",
+                self.road.length
+            ))
+        })?;
+        Road::window_of(set, ids, self.plan.count, self.top, self.digest)
     }
 }
 
