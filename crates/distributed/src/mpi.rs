@@ -18,7 +18,7 @@ use crate::DistributedError;
 use crate::plan::rank_range;
 use crate::sweep::{SweepRow, SweepRun};
 use crate::sweep::{decode_row, encode_row};
-use crate::wire::{decode_records, encode_records};
+use crate::wire::{decode_records, encode_records_owned};
 
 /// The job number that tells a sweep worker to stop.
 pub const STOP: u64 = u64::MAX;
@@ -70,18 +70,22 @@ pub fn roll(
         }
         scenario.roll_part(options, range, warmup).map(Some)
     });
-    let message = |r: &Result<Option<RollingResult>, tyreroad::scenario::ScenarioError>| {
-        let mut bytes = vec![u8::from(r.is_ok())];
-        match r {
-            Ok(Some(part)) => bytes.extend(encode_records(part)),
-            Ok(None) => {}
-            Err(e) => bytes.extend(e.to_string().as_bytes()),
-        }
-        bytes
-    };
     if rank > 0 {
-        world.process_at_rank(0).send(&message(&mine)[..]);
-        return mine.map(|_| None).map_err(DistributedError::from);
+        // The records are freed as they are encoded (a rank holds its part
+        // once, not twice); the status byte leads.
+        let (bytes, outcome) = match mine {
+            Ok(Some(part)) => {
+                (encode_records_owned(&[1], part), Ok(None))
+            }
+            Ok(None) => (vec![1], Ok(None)),
+            Err(e) => {
+                let mut bytes = vec![0];
+                bytes.extend(e.to_string().as_bytes());
+                (bytes, Err(DistributedError::from(e)))
+            }
+        };
+        world.process_at_rank(0).send(&bytes[..]);
+        return outcome;
     }
     let mut steps = Vec::new();
     let mut resumed = 0;
