@@ -74,9 +74,7 @@ pub fn roll(
         // The records are freed as they are encoded (a rank holds its part
         // once, not twice); the status byte leads.
         let (bytes, outcome) = match mine {
-            Ok(Some(part)) => {
-                (encode_records_owned(&[1], part), Ok(None))
-            }
+            Ok(Some(part)) => (encode_records_owned(&[1], part), Ok(None)),
             Ok(None) => (vec![1], Ok(None)),
             Err(e) => {
                 let mut bytes = vec![0];

@@ -130,10 +130,10 @@ fn header(lead: &[u8], result: &RollingResult) -> Writer {
     // contact.
     let size = lead.len()
         + 8 * (4 + result
-        .steps
-        .iter()
-        .map(|r| 16 + r.sensor_forces.len() + 2 * r.contact_ids.len())
-        .sum::<usize>());
+            .steps
+            .iter()
+            .map(|r| 16 + r.sensor_forces.len() + 2 * r.contact_ids.len())
+            .sum::<usize>());
     let mut w = Writer(Vec::with_capacity(size));
     w.0.extend_from_slice(lead);
     w.f(result.sample_rate);

@@ -122,9 +122,7 @@ mod synth;
 mod synth_window;
 mod tread;
 
-pub use checkpoint::{
-    RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints,
-};
+pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,

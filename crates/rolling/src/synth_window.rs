@@ -225,12 +225,12 @@ impl SyntheticRoad {
         ]
         .into_iter()
         .all(positive)
-        && self.height_spread.is_finite()
-        && self.height_spread >= 0.0
-        && self.radius_max.is_finite()
-        && self.radius_max >= self.radius_min
-        && target < 1e8
-        && (self.length / self.min_spacing) < 1e9;
+            && self.height_spread.is_finite()
+            && self.height_spread >= 0.0
+            && self.radius_max.is_finite()
+            && self.radius_max >= self.radius_min
+            && target < 1e8
+            && (self.length / self.min_spacing) < 1e9;
         if !ok {
             return Err(RollingError::InvalidInput(format!(
                 "synthetic road: positive sizes, density, spacing and radii, radius_max ≥ \
@@ -363,8 +363,10 @@ impl SyntheticRoad {
     /// [`RollingError::InvalidInput`] for malformed parameters.
     pub fn summits(&self) -> Result<(Vec<[f64; 2]>, Vec<f64>), RollingError> {
         let plan = self.plan()?;
-        let (mut positions, mut heights) =
-            (Vec::with_capacity(plan.count), Vec::with_capacity(plan.count));
+        let (mut positions, mut heights) = (
+            Vec::with_capacity(plan.count),
+            Vec::with_capacity(plan.count),
+        );
         self.stream(&plan, |_, p, z, _| {
             positions.push(p);
             heights.push(z);
