@@ -293,7 +293,10 @@ fn roll_road<L: ContactLaw + Sync>(
 /// Path length (m) rolled on one window of a synthetic road by a rank:
 /// the window is this plus a footprint and its margin, so a rank's memory
 /// does not grow with its part (docs/distributed.md, "Memory per rank").
-const WINDOW_PATH: f64 = 0.25;
+/// About 7 000 summits (1 MB) at road density; each window streams the
+/// whole road's candidates once (about 1 ms per metre of road), so a longer
+/// piece costs memory and a shorter one time.
+const WINDOW_PATH: f64 = 1.0;
 
 /// One rank's part on a synthetic road: the part cut into pieces of
 /// [`WINDOW_PATH`], each rolled (with its `warmup` steps) on the window of

@@ -104,7 +104,7 @@ fn parts_finished_on_rank_0_equal_the_single_process() {
     assert!(scenario.finish_rolling(&options(), short).is_err());
 }
 
-/// A part longer than a rank's road window (0.25 m of path): each rank
+/// A part longer than a rank's road window (1 m of path): each rank
 /// rolls its part on several windows of the synthetic road, one after
 /// another, and still gives the single process's records (same contact
 /// ids, signals to 1e-9 relative), road (positions and heights bit for
@@ -113,15 +113,15 @@ fn parts_finished_on_rank_0_equal_the_single_process() {
 fn parts_on_several_road_windows_equal_the_single_process() {
     let text = std::fs::read_to_string(fixtures().join("rolling_small.toml"))
         .unwrap()
-        .replace("end = \"79 mm\"", "end = \"560 mm\"")
+        .replace("end = \"79 mm\"", "end = \"2240 mm\"")
         .replace("step = \"1 mm\"", "step = \"2 mm\"")
-        .replace("length = \"0.12 m\"", "length = \"0.62 m\"");
+        .replace("length = \"0.12 m\"", "length = \"2.3 m\"");
     let scenario = Scenario::parse(&text, "long").unwrap();
     let ScenarioResult::Rolling(single) = scenario.run(&options()).unwrap() else {
         panic!("not a rolling scenario");
     };
     let total = scenario.rolling_steps().unwrap();
-    assert_eq!(total, 261);
+    assert_eq!(total, 1101);
     let ranks = 2;
     let mut steps = Vec::new();
     for rank in 0..ranks {
