@@ -84,6 +84,12 @@
 //!   without recomputing finished steps, bit for bit; a checkpoint that is
 //!   damaged, edited or disagrees with the inputs is refused
 //!   ([`RollingError::CheckpointRejected`]), never resumed;
+//! - a window of a road ([`Road::window_of`], the synthetic road's from
+//!   [`SyntheticRoad::windows`] without building the whole road) poses the
+//!   whole road's sub-problem at every step whose footprint it covers (the
+//!   same asperities in the same order, by their global ids, gaps from the
+//!   whole road's `z_max`), so from the same warm start it gives the same
+//!   record bit for bit;
 //! - user input never panics: errors are [`RollingError`]s.
 //!
 //! # Example
