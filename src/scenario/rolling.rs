@@ -167,17 +167,38 @@ pub(crate) fn rolling_on_road(
             )
         }
         (true, Some(synth)) => {
-            let road = synth.road().sphere_road(material)?;
-            let count = road.len();
-            roll_road(
-                scenario,
-                &road,
-                RoadSummary::Synthetic { count },
-                material,
-                spec,
-                options,
-                what,
-            )
+            let synth = synth.road();
+            match what {
+                // A rank's part: only the window of the road its steps
+                // touch, the same summits by the same ids as the whole
+                // road's (docs/distributed.md, "Memory per rank").
+                What::Part { steps, warmup } => {
+                    roll_synthetic_part(scenario, &synth, material, spec, options, steps, warmup)
+                }
+                // Records rolled elsewhere: the outputs need the summits'
+                // positions and heights, not their laws.
+                What::Gathered(result) => {
+                    let (positions, heights) = synth.summits()?;
+                    let config = scenario.rolling_config()?;
+                    let summary = RoadSummary::Synthetic {
+                        count: positions.len(),
+                    };
+                    finish(config, spec, summary, (positions, heights), result)
+                }
+                What::Whole => {
+                    let road = synth.sphere_road(material)?;
+                    let count = road.len();
+                    roll_road(
+                        scenario,
+                        &road,
+                        RoadSummary::Synthetic { count },
+                        material,
+                        spec,
+                        options,
+                        what,
+                    )
+                }
+            }
         }
         (false, Some(_)) => Err(ScenarioError::Invalid(
             "[rolling.synthetic_road] and [[asperity]] both given: choose one".into(),
@@ -244,9 +265,14 @@ fn roll_road<L: ContactLaw + Sync>(
             let ((x0, x1), (y0, y1)) = (span(0), span(1));
             ScenarioError::Invalid(format!(
                 "[rolling] start/end/lateral: no asperity under the footprint at x = {position} m, \
-                 lateral {} m; the road's asperities span x ∈ [{x0:.4}, {x1:.4}] m, \
+                 lateral {} m; the {} span x ∈ [{x0:.4}, {x1:.4}] m, \
                  y ∈ [{y0:.4}, {y1:.4}] m: put the path on the road",
-                config.lateral
+                config.lateral,
+                if road.is_window() {
+                    "asperities of this part's window of the road"
+                } else {
+                    "road's asperities"
+                }
             ))
         }
         other => other.into(),
@@ -258,23 +284,108 @@ fn roll_road<L: ContactLaw + Sync>(
                 .map_err(off_road)?;
             return Ok(Rolled::Part(part));
         }
-        What::Gathered(result) => {
-            if result.steps.len() != config.steps()
-                || result.steps.iter().enumerate().any(|(k, s)| s.index != k)
-            {
-                return Err(ScenarioError::Invalid(format!(
-                    "gathered records do not cover the path's {} steps in order",
-                    config.steps()
-                )));
-            }
-            result
-        }
+        What::Gathered(result) => result,
     };
+    let summits = (road.positions().to_vec(), road.heights().to_vec());
+    finish(config, spec, summary, summits, result)
+}
+
+/// Path length (m) rolled on one window of a synthetic road by a rank:
+/// the window is this plus a footprint and its margin, so a rank's memory
+/// does not grow with its part (docs/distributed.md, "Memory per rank").
+/// About 7 000 summits (1 MB) at road density; each window streams the
+/// whole road's candidates once (about 1 ms per metre of road), so a longer
+/// piece costs memory and a shorter one time.
+const WINDOW_PATH: f64 = 1.0;
+
+/// One rank's part on a synthetic road: the part cut into pieces of
+/// [`WINDOW_PATH`], each rolled (with its `warmup` steps) on the window of
+/// the road its footprints select from, built from the keep decisions
+/// found once for the whole road.
+fn roll_synthetic_part(
+    scenario: &Scenario,
+    synth: &rolling::SyntheticRoad,
+    material: Material,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    steps: std::ops::Range<usize>,
+    warmup: usize,
+) -> Result<Rolled, ScenarioError> {
+    let config = scenario.rolling_config()?;
+    let windows = synth.windows(material)?;
+    let count = windows.count();
+    let per_window = ((WINDOW_PATH / config.step).floor() as usize).max(1);
+    let mut part: Option<rolling::RollingResult> = None;
+    let mut start = steps.start;
+    while start < steps.end {
+        let piece = start..(start + per_window).min(steps.end);
+        start = piece.end;
+        let road = windows.window(part_window(&config, &piece, warmup))?;
+        let what = What::Part {
+            steps: piece,
+            warmup,
+        };
+        let summary = RoadSummary::Synthetic { count };
+        let Rolled::Part(rolled) =
+            roll_road(scenario, &road, summary, material, spec, options, what)?
+        else {
+            return Err(ScenarioError::Invalid("a part gave a whole run".into()));
+        };
+        match &mut part {
+            None => {
+                // Room for the whole part at once (no doubling copies).
+                let mut first = rolled;
+                first.steps.reserve_exact(steps.len() - first.steps.len());
+                part = Some(first);
+            }
+            Some(all) => {
+                all.steps.extend(rolled.steps);
+                all.resumed += rolled.resumed;
+            }
+        }
+    }
+    part.map(Rolled::Part)
+        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
+}
+
+/// The x-range of the road that the steps `steps` and their `warmup`
+/// steps select from: their footprints with the selection margin, and 1 mm
+/// more (the selection compares coordinates, so a wider window selects the
+/// same asperities; the pad only keeps rounding out of the question).
+fn part_window(
+    config: &rolling::RollingConfig,
+    steps: &std::ops::Range<usize>,
+    warmup: usize,
+) -> [f64; 2] {
+    let (hx, _) = config.tread.half_extents();
+    let reach = hx + config.tread.effective_margin(config.margin) + 1e-3;
+    let first = config.position(steps.start.saturating_sub(warmup));
+    let last = config.position(steps.end.max(1) - 1);
+    [first.min(last) - reach, first.max(last) + reach]
+}
+
+/// The run made of a path's records: checked to cover the path in order,
+/// with the road's summits and the spectra.
+fn finish(
+    config: rolling::RollingConfig,
+    spec: &RollingSpec,
+    summary: RoadSummary,
+    (road_positions, road_heights): (Vec<[f64; 2]>, Vec<f64>),
+    result: rolling::RollingResult,
+) -> Result<Rolled, ScenarioError> {
+    if result.steps.len() != config.steps()
+        || result.steps.iter().enumerate().any(|(k, s)| s.index != k)
+    {
+        return Err(ScenarioError::Invalid(format!(
+            "gathered records do not cover the path's {} steps in order",
+            config.steps()
+        )));
+    }
     let spectra = spectra(&config, spec, &result)?;
     Ok(Rolled::Run(Box::new(RollingRun {
         road: summary,
-        road_positions: road.positions().to_vec(),
-        road_heights: road.heights().to_vec(),
+        road_positions,
+        road_heights,
         config,
         result,
         spectra,

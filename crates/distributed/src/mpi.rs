@@ -18,7 +18,7 @@ use crate::DistributedError;
 use crate::plan::rank_range;
 use crate::sweep::{SweepRow, SweepRun};
 use crate::sweep::{decode_row, encode_row};
-use crate::wire::{decode_records, encode_records};
+use crate::wire::{decode_records, encode_records_owned};
 
 /// The job number that tells a sweep worker to stop.
 pub const STOP: u64 = u64::MAX;
@@ -70,32 +70,50 @@ pub fn roll(
         }
         scenario.roll_part(options, range, warmup).map(Some)
     });
-    let message = |r: &Result<Option<RollingResult>, tyreroad::scenario::ScenarioError>| {
-        let mut bytes = vec![u8::from(r.is_ok())];
-        match r {
-            Ok(Some(part)) => bytes.extend(encode_records(part)),
-            Ok(None) => {}
-            Err(e) => bytes.extend(e.to_string().as_bytes()),
-        }
-        bytes
-    };
     if rank > 0 {
-        world.process_at_rank(0).send(&message(&mine)[..]);
-        return mine.map(|_| None).map_err(DistributedError::from);
+        // The records are freed as they are encoded (a rank holds its part
+        // once, not twice); the status byte leads.
+        let (bytes, outcome) = match mine {
+            Ok(Some(part)) => (encode_records_owned(&[1], part), Ok(None)),
+            Ok(None) => (vec![1], Ok(None)),
+            Err(e) => {
+                let mut bytes = vec![0];
+                bytes.extend(e.to_string().as_bytes());
+                (bytes, Err(DistributedError::from(e)))
+            }
+        };
+        world.process_at_rank(0).send(&bytes[..]);
+        return outcome;
     }
     let mut steps = Vec::new();
     let mut resumed = 0;
     let mut meta = None;
     let mut first_error = None;
-    for r in 0..ranks {
-        let bytes = if r == 0 {
-            message(&mine)
-        } else {
-            world
-                .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
-                .receive_vec::<u8>()
-                .0
-        };
+    // Rank 0's own records are moved, not encoded: it holds one copy of
+    // each record, and one rank's message at a time.
+    match mine {
+        Ok(Some(part)) => {
+            resumed += part.resumed;
+            meta = Some((part.sample_rate, part.input_hash));
+            steps = part.steps;
+        }
+        Ok(None) => {}
+        Err(ref e) => {
+            first_error = Some(DistributedError::Rank {
+                rank: 0,
+                message: e.to_string(),
+            });
+        }
+    }
+    // Room for the whole path at once (growing by doubling would hold up to
+    // twice the records at the last copy).
+    let total = scenario.rolling_steps().unwrap_or(0);
+    steps.reserve_exact(total.saturating_sub(steps.len()));
+    for r in 1..ranks {
+        let bytes = world
+            .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
+            .receive_vec::<u8>()
+            .0;
         match bytes.split_first() {
             Some((1, [])) => {}
             Some((1, body)) => {

@@ -108,37 +108,65 @@ fn decode_code<T: Copy>(all: &[T], code: usize, what: &str) -> Result<T, Distrib
 
 /// The records of a part of a run, as sent to rank 0.
 pub fn encode_records(result: &RollingResult) -> Vec<u8> {
-    let mut w = Writer::default();
+    let mut w = header(&[], result);
+    result.steps.iter().for_each(|r| encode_record(&mut w, r));
+    w.0
+}
+
+/// `lead` (a message's own bytes, such as a status) then
+/// [`encode_records`], taking the records and freeing each once encoded: a
+/// rank holds its records and their message together only for one record
+/// (and the message is allocated once, at its exact size).
+pub fn encode_records_owned(lead: &[u8], result: RollingResult) -> Vec<u8> {
+    let mut w = header(lead, &result);
+    for r in result.steps {
+        encode_record(&mut w, &r);
+    }
+    w.0
+}
+
+fn header(lead: &[u8], result: &RollingResult) -> Writer {
+    // 4 header words; per record 16 words, a word per sensor, two per
+    // contact.
+    let size = lead.len()
+        + 8 * (4 + result
+            .steps
+            .iter()
+            .map(|r| 16 + r.sensor_forces.len() + 2 * r.contact_ids.len())
+            .sum::<usize>());
+    let mut w = Writer(Vec::with_capacity(size));
+    w.0.extend_from_slice(lead);
     w.f(result.sample_rate);
     w.u(result.resumed);
     w.u(result.input_hash as usize);
     w.u(result.steps.len());
-    for r in &result.steps {
-        for v in [r.index, r.contacts, r.selected, r.iterations, r.overlapping] {
-            w.u(v);
-        }
-        w.u(code(&STATUSES, &r.status));
-        w.u(code(&RECOVERIES, &r.recovery));
-        for v in [
-            r.position,
-            r.time,
-            r.total_force,
-            r.approach,
-            r.contact_area,
-            r.residual,
-            r.clearance,
-        ] {
-            w.f(v);
-        }
-        w.u(r.sensor_forces.len());
-        r.sensor_forces.iter().for_each(|&v| w.f(v));
-        w.u(r.contact_ids.len());
-        for (&i, &p) in r.contact_ids.iter().zip(&r.contact_forces) {
-            w.u(i);
-            w.f(p);
-        }
+    w
+}
+
+fn encode_record(w: &mut Writer, r: &StepRecord) {
+    for v in [r.index, r.contacts, r.selected, r.iterations, r.overlapping] {
+        w.u(v);
     }
-    w.0
+    w.u(code(&STATUSES, &r.status));
+    w.u(code(&RECOVERIES, &r.recovery));
+    for v in [
+        r.position,
+        r.time,
+        r.total_force,
+        r.approach,
+        r.contact_area,
+        r.residual,
+        r.clearance,
+    ] {
+        w.f(v);
+    }
+    w.u(r.sensor_forces.len());
+    r.sensor_forces.iter().for_each(|&v| w.f(v));
+    w.u(r.contact_ids.len());
+    for (&i, &p) in r.contact_ids.iter().zip(&r.contact_forces) {
+        w.u(i);
+        w.f(p);
+    }
 }
 
 /// The inverse of [`encode_records`].
@@ -241,6 +269,11 @@ mod tests {
         result.steps[3].status = StepStatus::Failed;
         result.resumed = 2;
         let bytes = encode_records(&result);
+        // Allocated at its exact size; the owned encoding is the same bytes.
+        assert_eq!(bytes.capacity(), bytes.len());
+        let owned = encode_records_owned(&[7], result.clone());
+        assert_eq!((owned[0], &owned[1..]), (7, &bytes[..]));
+        assert_eq!(owned.capacity(), owned.len());
         let back = decode_records(&bytes).unwrap();
         assert_eq!(format!("{back:?}"), format!("{result:?}"));
         assert!(back.steps.iter().any(|s| !s.contact_ids.is_empty()));

@@ -103,3 +103,42 @@ fn parts_finished_on_rank_0_equal_the_single_process() {
     short.steps.pop();
     assert!(scenario.finish_rolling(&options(), short).is_err());
 }
+
+/// A part longer than a rank's road window (1 m of path): each rank
+/// rolls its part on several windows of the synthetic road, one after
+/// another, and still gives the single process's records (same contact
+/// ids, signals to 1e-9 relative), road (positions and heights bit for
+/// bit) and input hash (so the same checkpoint files).
+#[test]
+fn parts_on_several_road_windows_equal_the_single_process() {
+    let text = std::fs::read_to_string(fixtures().join("rolling_small.toml"))
+        .unwrap()
+        .replace("end = \"79 mm\"", "end = \"2240 mm\"")
+        .replace("step = \"1 mm\"", "step = \"2 mm\"")
+        .replace("length = \"0.12 m\"", "length = \"2.3 m\"");
+    let scenario = Scenario::parse(&text, "long").unwrap();
+    let ScenarioResult::Rolling(single) = scenario.run(&options()).unwrap() else {
+        panic!("not a rolling scenario");
+    };
+    let total = scenario.rolling_steps().unwrap();
+    assert_eq!(total, 1101);
+    let ranks = 2;
+    let mut steps = Vec::new();
+    for rank in 0..ranks {
+        let part = scenario
+            .roll_part(&options(), rank_range(total, rank, ranks), 2)
+            .unwrap();
+        assert_eq!(part.input_hash, single.result.input_hash);
+        steps.extend(part.steps);
+    }
+    let gathered = RollingResult {
+        steps,
+        ..single.result.clone()
+    };
+    let run = scenario.finish_rolling(&options(), gathered).unwrap();
+    let worst = compare(&run.result, &single.result);
+    println!("{ranks} ranks on windows: largest relative difference {worst:.1e}");
+    assert!(worst <= 1e-9, "{worst:e}");
+    assert_eq!(run.road_positions, single.road_positions);
+    assert_eq!(run.road_heights, single.road_heights);
+}

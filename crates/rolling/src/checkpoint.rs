@@ -40,6 +40,7 @@ const MAGIC: &str = "tyreroad-rolling-checkpoint 5";
 
 /// 64-bit FNV-1a: stable across platforms and Rust versions (unlike std's
 /// `DefaultHasher`).
+#[derive(Debug)]
 struct Fnv(u64);
 
 impl Fnv {
@@ -72,19 +73,9 @@ pub fn input_hash<L: ContactLaw>(
     material: &Material,
     config: &RollingConfig,
 ) -> u64 {
-    let mut h = Fnv::new();
-    h.bytes(MAGIC.as_bytes());
-    h.u(road.len() as u64);
-    for ((p, z), law) in road.positions().iter().zip(road.heights()).zip(road.laws()) {
-        h.f(p[0]);
-        h.f(p[1]);
-        h.f(*z);
-        for d in PROBES {
-            let l = law.evaluate(d);
-            h.f(l.force);
-            h.f(l.stiffness);
-        }
-    }
+    // The road's part, streamed in id order (a window carries its whole
+    // road's), then the rest.
+    let mut h = Fnv(road.digest());
     h.f(material.youngs_modulus());
     h.f(material.poisson_ratio());
     match config.tread {
@@ -133,6 +124,41 @@ pub fn input_hash<L: ContactLaw>(
         }
     }
     h.0
+}
+
+/// The road's part of [`input_hash`], fed one asperity at a time in id
+/// order: a window of a road ([`Road::window_of`]) is given the digest of
+/// its whole road, computed by whoever can stream the whole road's
+/// asperities without holding them (the synthetic road's window builder).
+#[derive(Debug)]
+pub struct RoadDigest(Fnv);
+
+impl RoadDigest {
+    /// A digest of a road of `len` asperities.
+    pub fn new(len: usize) -> Self {
+        let mut h = Fnv::new();
+        h.bytes(MAGIC.as_bytes());
+        h.u(len as u64);
+        Self(h)
+    }
+
+    /// The next asperity (by id): summit position (m), height (m), law.
+    pub fn push<L: ContactLaw>(&mut self, position: [f64; 2], height: f64, law: &L) {
+        let h = &mut self.0;
+        h.f(position[0]);
+        h.f(position[1]);
+        h.f(height);
+        for d in PROBES {
+            let l = law.evaluate(d);
+            h.f(l.force);
+            h.f(l.stiffness);
+        }
+    }
+
+    /// The digest, after every asperity was pushed.
+    pub fn finish(&self) -> u64 {
+        self.0.0
+    }
 }
 
 fn file_name(hash: u64, (a, b): (usize, usize)) -> String {

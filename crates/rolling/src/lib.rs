@@ -84,6 +84,12 @@
 //!   without recomputing finished steps, bit for bit; a checkpoint that is
 //!   damaged, edited or disagrees with the inputs is refused
 //!   ([`RollingError::CheckpointRejected`]), never resumed;
+//! - a window of a road ([`Road::window_of`], the synthetic road's from
+//!   [`SyntheticRoad::windows`] without building the whole road) poses the
+//!   whole road's sub-problem at every step whose footprint it covers (the
+//!   same asperities in the same order, by their global ids, gaps from the
+//!   whole road's `z_max`), so from the same warm start it gives the same
+//!   record bit for bit;
 //! - user input never panics: errors are [`RollingError`]s.
 //!
 //! # Example
@@ -119,9 +125,10 @@ mod sensor;
 mod spectrum;
 mod step;
 mod synth;
+mod synth_window;
 mod tread;
 
-pub use checkpoint::{input_hash, remove_unfinished as remove_unfinished_checkpoints};
+pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
@@ -135,6 +142,7 @@ pub use spectrum::{
 };
 pub use step::{StepProblem, step_problem};
 pub use synth::SyntheticRoad;
+pub use synth_window::SyntheticWindows;
 pub use tread::Tread;
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_multipoint::{AsperitySet, Par, SolveError};

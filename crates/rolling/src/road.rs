@@ -1,6 +1,14 @@
-//! A road as a generic set of asperities, indexed by x for window queries.
+//! A road as a generic set of asperities, indexed by x for window queries;
+//! a whole road, or the window of one that a rank of a distributed run
+//! rolls on (docs/distributed.md).
 
+use std::sync::OnceLock;
+
+use tyreroad_contact_law::ContactLaw;
 use tyreroad_multipoint::AsperitySet;
+
+use crate::RollingError;
+use crate::checkpoint::RoadDigest;
 
 /// A road surface reduced to asperities: an [`AsperitySet`] (summit
 /// positions `(x_i, y_i)`, x along the driving direction, y across, m;
@@ -12,15 +20,32 @@ use tyreroad_multipoint::AsperitySet;
 /// by x so that the ones under a footprint are found by binary search
 /// (`O(log N + window)` per step). (Coincident summits are reported by the
 /// solver when they fall under the same footprint.)
+///
+/// A **window** ([`Road::window_of`]) holds only the asperities of a whole
+/// road that lie in an x-range, with what the results need from the whole
+/// road: each asperity's global id (records, checkpoints and outputs name
+/// asperities by it), the whole road's highest summit (the gaps' reference
+/// plane) and its digest (the checkpoint key). Rolled on the steps whose
+/// footprints lie inside the window, it gives the whole road's records bit
+/// for bit: the selection at a step is the same asperities in the same
+/// order, so the same sub-problem. Inside the crate asperities are indexed
+/// locally (`0..len()`); [`Road::global_id`] maps them out.
 #[derive(Clone, Debug)]
 pub struct Road<L> {
     set: AsperitySet<L>,
-    /// Ids sorted by x (ties by id).
+    /// Local indices sorted by x (ties by index).
     by_x: Vec<usize>,
     /// `positions[by_x[k]][0]`.
     sorted_x: Vec<f64>,
-    /// `set.top()`, read at every step.
+    /// The whole road's highest summit, read at every step.
     top: f64,
+    /// A window's global ids by local index, increasing; `None`: the whole
+    /// road (global id = local index).
+    global_ids: Option<Vec<usize>>,
+    /// Asperities on the whole road.
+    global_len: usize,
+    /// The whole road's part of the checkpoint key ([`RoadDigest`]).
+    digest: OnceLock<u64>,
 }
 
 impl<L> Road<L> {
@@ -32,12 +57,83 @@ impl<L> Road<L> {
         by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]).then(a.cmp(&b)));
         let sorted_x = by_x.iter().map(|&i| positions[i][0]).collect();
         let top = set.top();
+        let global_len = set.len();
         Self {
             set,
             by_x,
             sorted_x,
             top,
+            global_ids: None,
+            global_len,
+            digest: OnceLock::new(),
         }
+    }
+
+    /// The window of a whole road: `set` holds the whole road's asperities
+    /// `global_ids` (strictly increasing, below `global_len`), in that
+    /// order; `top` is the whole road's highest summit and `digest` its
+    /// [`RoadDigest`] (both are what [`Road::new`] on the whole road would
+    /// compute, so a window's records and checkpoints are the whole road's).
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] when the ids are not one per asperity,
+    /// strictly increasing and below `global_len`, or `top` is below a
+    /// summit of the window.
+    pub fn window_of(
+        set: AsperitySet<L>,
+        global_ids: Vec<usize>,
+        global_len: usize,
+        top: f64,
+        digest: u64,
+    ) -> Result<Self, RollingError> {
+        let increasing = global_ids.windows(2).all(|w| w[0] < w[1]);
+        if global_ids.len() != set.len()
+            || !increasing
+            || global_ids.last().is_some_and(|&i| i >= global_len)
+        {
+            return Err(RollingError::InvalidInput(format!(
+                "a road window needs one global id per asperity ({} for {}), strictly \
+                 increasing and below the road's {global_len} asperities",
+                global_ids.len(),
+                set.len()
+            )));
+        }
+        if !(top >= set.top()) {
+            return Err(RollingError::InvalidInput(format!(
+                "a road window's highest summit {top} m is below one of its summits ({} m)",
+                set.top()
+            )));
+        }
+        let mut road = Self::new(set);
+        road.top = top;
+        road.global_ids = Some(global_ids);
+        road.global_len = global_len;
+        road.digest = OnceLock::from(digest);
+        Ok(road)
+    }
+
+    /// The whole road's id of local asperity `local`.
+    pub fn global_id(&self, local: usize) -> usize {
+        self.global_ids.as_ref().map_or(local, |ids| ids[local])
+    }
+
+    /// The local index of the whole road's asperity `global`, if this road
+    /// holds it.
+    pub fn local_id(&self, global: usize) -> Option<usize> {
+        match &self.global_ids {
+            None => (global < self.set.len()).then_some(global),
+            Some(ids) => ids.binary_search(&global).ok(),
+        }
+    }
+
+    /// Asperities on the whole road (`len()` for a whole road).
+    pub fn global_len(&self) -> usize {
+        self.global_len
+    }
+
+    /// Whether this is a window of a larger road.
+    pub fn is_window(&self) -> bool {
+        self.global_ids.is_some()
     }
 
     /// The road's asperities.
@@ -45,7 +141,7 @@ impl<L> Road<L> {
         &self.set
     }
 
-    /// Number of asperities.
+    /// Number of asperities held (a window's, for a window).
     pub fn len(&self) -> usize {
         self.set.len()
     }
@@ -55,22 +151,23 @@ impl<L> Road<L> {
         self.set.is_empty()
     }
 
-    /// Summit positions `(x_i, y_i)` (m), by id.
+    /// Summit positions `(x_i, y_i)` (m), by local index.
     pub fn positions(&self) -> &[[f64; 2]] {
         self.set.positions()
     }
 
-    /// Summit heights `z_i` (m), by id.
+    /// Summit heights `z_i` (m), by local index.
     pub fn heights(&self) -> &[f64] {
         self.set.heights()
     }
 
-    /// Contact laws, by id.
+    /// Contact laws, by local index.
     pub fn laws(&self) -> &[L] {
         self.set.laws()
     }
 
-    /// The highest summit `z_max` (m): the reference plane of the gaps.
+    /// The whole road's highest summit `z_max` (m): the reference plane of
+    /// the gaps.
     pub fn top(&self) -> f64 {
         self.top
     }
@@ -83,8 +180,9 @@ impl<L> Road<L> {
         ]
     }
 
-    /// Ids of the asperities with `x0 ≤ x ≤ x1` and `y0 ≤ y ≤ y1`, in
-    /// increasing x (ties by id): binary search on x, then a filter on y.
+    /// Local indices of the asperities with `x0 ≤ x ≤ x1` and `y0 ≤ y ≤
+    /// y1`, in increasing x (ties by index, so by global id in a window as
+    /// in the whole road): binary search on x, then a filter on y.
     pub fn window(&self, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2], out: &mut Vec<usize>) {
         out.clear();
         let lo = self.sorted_x.partition_point(|&x| x < x0);
@@ -95,5 +193,20 @@ impl<L> Road<L> {
                 .copied()
                 .filter(|&i| (y0..=y1).contains(&self.set.positions()[i][1])),
         );
+    }
+}
+
+impl<L: ContactLaw> Road<L> {
+    /// The road's part of the checkpoint key: [`RoadDigest`] of the whole
+    /// road's asperities in id order (computed once, on first use, for a
+    /// whole road; given for a window).
+    pub fn digest(&self) -> u64 {
+        *self.digest.get_or_init(|| {
+            let mut d = RoadDigest::new(self.set.len());
+            for ((p, z), law) in self.positions().iter().zip(self.heights()).zip(self.laws()) {
+                d.push(*p, *z, law);
+            }
+            d.finish()
+        })
     }
 }

@@ -138,13 +138,23 @@ pub fn roll_range<L: ContactLaw + Sync>(
         let expect = checkpoint::Expect {
             hash,
             config,
-            road_len: road.len(),
+            road_len: road.global_len(),
             boundary: config
                 .tread
                 .boundary_profile(config.tread.effective_margin(config.margin)),
         };
         let loaded = checkpoint::load(ck, &expect)?;
-        states = loaded.states;
+        // Files name asperities by global id; a state naming one outside
+        // this road's window is dropped (its step's successor cold-starts,
+        // equal to the solver tolerance).
+        states = loaded
+            .states
+            .into_iter()
+            .filter_map(|(k, c)| {
+                let ids: Option<Vec<usize>> = c.ids.iter().map(|&g| road.local_id(g)).collect();
+                ids.map(|ids| (k, Carry { ids, ..c }))
+            })
+            .collect();
         for r in loaded.records {
             if range.contains(&r.index) {
                 let slot = r.index - first;
@@ -267,7 +277,13 @@ fn run_chunk<L: ContactLaw + Sync>(
                 (a, b),
                 config.sensors.len(),
                 records,
-                carry.as_ref(),
+                carry
+                    .as_ref()
+                    .map(|c| Carry {
+                        ids: c.ids.iter().map(|&i| road.global_id(i)).collect(),
+                        ..c.clone()
+                    })
+                    .as_ref(),
             ),
             None => Ok(()),
         }

@@ -90,7 +90,8 @@ thread_local! {
 }
 
 /// The state carried from one step to the next (warm start): forces by
-/// asperity id (ids absent carry zero) and the approach.
+/// asperity (the road's local indices while rolling, global ids in a
+/// checkpoint file; absent ones carry zero) and the approach.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Carry {
     pub ids: Vec<usize>,
@@ -216,7 +217,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     let mut contact_forces = Vec::with_capacity(in_contact);
     for (a, (&i, &p)) in ids.iter().zip(&solution.forces).enumerate() {
         if p > 0.0 {
-            contact_ids.push(i);
+            contact_ids.push(road.global_id(i));
             contact_forces.push(p);
             area += contacts[a].area();
             for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
