@@ -63,11 +63,29 @@ fn in_range(
         Ok(())
     } else {
         let open = if open_lo { "(" } else { "[" };
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
         Err(bad(
             key,
-            format!("{value:e} {unit}"),
-            &format!("a finite value in {open}{lo:e}, {hi:e}] {unit}"),
+            format!("{}{unit}", number(value)),
+            &format!(
+                "a finite value in {open}{}, {}]{unit}",
+                number(lo),
+                number(hi)
+            ),
         ))
+    }
+}
+
+/// `x` in scientific notation, zero as `0` (not `0e0`).
+fn number(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:e}")
     }
 }
 

@@ -1,9 +1,10 @@
 //! The one way the scenario layer writes files.
 //!
 //! An [`OutputSet`] stages a run's files in a fresh temporary directory
-//! inside the output folder and moves them into place only when every one
-//! was written ([`OutputSet::commit`]); a failed or interrupted run leaves
-//! the folder as it was. CSV tables are serde rows ([`csv_bytes`]) whose
+//! inside the output folder; when every one was written
+//! ([`OutputSet::commit`]) the folder is rebuilt beside itself with them and
+//! swapped in whole ([`swap`]), so a reader sees the old set or the new one,
+//! never a mix; a failed or interrupted run leaves the folder as it was. CSV tables are serde rows ([`csv_bytes`]) whose
 //! number columns keep their fixed formats ([`fmt`]); arrays go out as
 //! NumPy `.npy` / `.npz` ([`npy_bytes`], [`NpzBuilder`]).
 
@@ -14,6 +15,8 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::ScenarioError;
+
+pub mod swap;
 
 /// The name prefix of a set's staging directory inside its output folder.
 pub const STAGING_PREFIX: &str = ".tyreroad-staging-";
@@ -56,6 +59,7 @@ impl OutputSet {
     /// created.
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, ScenarioError> {
         let dir = dir.into();
+        swap::prepare(&dir)?;
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
         remove_stale_staging(&dir)?;
         let staging = tempfile::Builder::new()
@@ -133,16 +137,17 @@ impl OutputSet {
         self.write(name, &bytes)
     }
 
-    /// Moves every staged file into the folder (replacing files of the same
-    /// name) and returns their final paths, in the order they were staged.
+    /// Lands every staged file in the folder (replacing files of the same
+    /// name, and with [`OutputSet::replacing`] removing the producer's stale
+    /// ones) and returns their final paths, in the order they were staged.
     ///
-    /// Each file lands by one rename on the same file system, so a reader
-    /// sees the old or the new file, never a half-written one.
+    /// The folder is rebuilt beside itself and swapped in whole (see
+    /// [`swap`] for how, and for the cases that land file by file).
     ///
     /// # Errors
-    /// [`ScenarioError::Io`] if the staging directory cannot be read or a
-    /// file cannot be moved (those not moved yet are removed with the
-    /// staging directory).
+    /// [`ScenarioError::Io`] if the staging directory cannot be read, a
+    /// staged name is a directory in the folder, or a file cannot be moved;
+    /// the folder then holds the previous set.
     pub fn commit(mut self) -> Result<Vec<PathBuf>, ScenarioError> {
         let staged = fs::read_dir(self.staging.path())
             .map_err(ScenarioError::io("reading", self.staging.path()))?;
@@ -156,62 +161,22 @@ impl OutputSet {
         }
         extra.sort();
         self.names.extend(extra);
-        if let Some(manifest) = &self.manifest {
-            self.replace_previous(manifest)?;
+        let written = swap::Landing {
+            dir: &self.dir,
+            staging: self.staging.path(),
+            names: &self.names,
+            manifest: self.manifest.as_deref(),
         }
-        let mut written = Vec::with_capacity(self.names.len());
-        for name in &self.names {
-            let from = self.staging.path().join(name);
-            if !from.exists() {
-                continue;
-            }
-            let to = self.dir.join(name);
-            fs::rename(&from, &to).map_err(ScenarioError::io("moving into place", &to))?;
-            written.push(to);
-        }
-        if let Some(manifest) = &self.manifest {
-            // Last, so that the list never names a file not yet in place.
-            let list: String = self.names.iter().map(|n| format!("{n}\n")).collect();
-            let from = self.staging.path().join(manifest);
-            fs::write(&from, list).map_err(ScenarioError::io("writing", &from))?;
-            let to = self.dir.join(manifest);
-            fs::rename(&from, &to).map_err(ScenarioError::io("moving into place", &to))?;
-        }
+        .land()?;
+        // After a swap the staging directory went with the old tree; after
+        // a file-by-file landing it is empty. Either way it is gone or goes.
         let staging = self.staging.path().to_path_buf();
-        self.staging
-            .close()
-            .map_err(ScenarioError::io("removing", staging))?;
-        Ok(written)
-    }
-}
-
-impl OutputSet {
-    /// Removes the files the producer's previous set listed in `manifest`
-    /// that this set does not write (only plain names: the list is read as
-    /// untrusted text).
-    fn replace_previous(&self, manifest: &str) -> Result<(), ScenarioError> {
-        let path = self.dir.join(manifest);
-        let previous = match fs::read_to_string(&path) {
-            Ok(text) => text,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-            Err(e) => return Err(ScenarioError::io("reading", &path)(e)),
-        };
-        for old in previous.lines() {
-            let plain = !old.is_empty()
-                && !old.contains(['/', '\\'])
-                && old != ".."
-                && old != "."
-                && !old.starts_with(MANIFEST_PREFIX);
-            if plain && !self.names.iter().any(|n| n == old) {
-                let stale = self.dir.join(old);
-                match fs::remove_file(&stale) {
-                    Ok(()) => {}
-                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-                    Err(e) => return Err(ScenarioError::io("removing stale", &stale)(e)),
-                }
-            }
+        if staging.exists() {
+            self.staging
+                .close()
+                .map_err(ScenarioError::io("removing", staging))?;
         }
-        Ok(())
+        Ok(written)
     }
 }
 

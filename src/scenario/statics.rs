@@ -47,6 +47,9 @@ pub struct LoadRun {
     /// model's point-force coupling no longer holds
     /// (`tyreroad_multipoint::overlapping_contacts`).
     pub overlapping: usize,
+    /// Whether the solve met the tolerance or stagnated within the
+    /// acceptable one (what `--strict` counts as a fallback).
+    pub convergence: tyreroad_multipoint::Convergence,
 }
 
 /// A static run: per-asperity rows (load-major, asperity order within a
@@ -181,6 +184,7 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
             residual: s.residual,
             seconds,
             overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
+            convergence: s.convergence,
         });
         locals.push(contacts);
     }

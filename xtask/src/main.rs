@@ -20,6 +20,7 @@ mod pressure_image;
 mod rolling_bem_cmd;
 mod rolling_cmd;
 mod statics;
+mod summary;
 mod sweep_cmd;
 mod texture_cmd;
 mod texture_static;
@@ -34,6 +35,8 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use tyreroad::scenario::output::OutputSet;
 use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+
+use crate::summary::Fallbacks;
 
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "tyreroad runner", version)]
@@ -101,53 +104,32 @@ fn main() -> Result<()> {
     }
 }
 
-/// `cargo xtask run`: the library runs the scenario, this prints and writes.
+/// `cargo xtask run`: the library runs the scenario, this prints and writes,
+/// then sums up what fell back (with `--strict`, a non-zero exit if any).
 fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
     let s = Scenario::from_path(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     if s.rolling.is_some() {
-        let unconverged = rolling_cmd::run_rolling(&s, base, out)?;
-        return strict_rolling(strict, unconverged);
+        return rolling_cmd::run_rolling(&s, base, out)?.finish(strict);
     }
     let result = s.run(&RunOptions::new(base))?;
     let mut set = OutputSet::replacing(out, &s.name)?;
-    let mut fallbacks = 0;
-    match result {
+    let fallbacks = match result {
         ScenarioResult::Texture(r) => {
-            fallbacks = texture_static::report_texture_static(&s.name, &r, &mut set)?;
+            texture_static::report_texture_static(&s.name, &r, &mut set)?;
+            Fallbacks::from_texture(&r)
         }
         ScenarioResult::Static(r) => {
             statics::print_table(&r.rows);
             statics::print_runs(&r.runs);
-            fallbacks += statics::print_failed_loads(&r.failed_loads);
+            statics::print_failed_loads(&r.failed_loads);
             statics::write_static_outputs(&mut set, &s.name, &r.rows)?;
+            Fallbacks::from_static(&r)
         }
         ScenarioResult::Rolling(run) => {
-            let unconverged = rolling_cmd::report_rolling(&run, out)?;
-            return strict_rolling(strict, unconverged);
+            return rolling_cmd::report_rolling(&run, out)?.finish(strict);
         }
-    }
+    };
     statics::print_written(&set.commit()?);
-    if strict && fallbacks > 0 {
-        anyhow::bail!("--strict: {fallbacks} items fell back (outputs written)");
-    }
-    Ok(())
-}
-
-/// `--strict` on a rolling run: every step must have converged.
-fn strict_rolling(strict: bool, unconverged: usize) -> Result<()> {
-    if strict && unconverged > 0 {
-        anyhow::bail!("--strict: {unconverged} steps did not converge (outputs written)");
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn strict_rolling_refuses_any_step_not_converged() {
-        assert!(super::strict_rolling(true, 0).is_ok());
-        assert!(super::strict_rolling(false, 3).is_ok());
-        assert!(super::strict_rolling(true, 1).is_err());
-    }
+    fallbacks.finish(strict)
 }

@@ -12,6 +12,7 @@ use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz, steps_npz}
 use tyreroad::scenario::{RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult};
 
 use crate::charts::{Series, line_chart};
+use crate::summary::Fallbacks;
 
 /// Runs a `[rolling]` scenario with a progress bar; with `checkpoint = true`
 /// a killed run resumes from `out/checkpoint/`. Writes into `out`:
@@ -23,9 +24,9 @@ use crate::charts::{Series, line_chart};
 /// `positions` `(n, 2)`, `heights`), `steps.npz` (per step `time` and
 /// `position`, the path's `lateral`, and the contact forces as COO triplets
 /// `step`, `asperity`, `force`, and each step's `status`) and SVG/PNG
-/// charts. Returns the number of steps that did not converge cleanly
-/// (stagnated or failed), for `--strict`.
-pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<usize> {
+/// charts. Returns the steps that did not converge cleanly (stagnated or
+/// failed), for the summary and `--strict`.
+pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<Fallbacks> {
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
@@ -53,8 +54,8 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<u
 }
 
 /// Prints what a rolling run needs to be read right, and writes its files.
-/// Returns the number of steps not `converged` (stagnated or failed).
-pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<usize> {
+/// Returns the steps not `converged` (stagnated or failed).
+pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
     match &run.road {
         RoadSummary::Texture(t) => println!(
             "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
@@ -121,7 +122,7 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<usize> {
         result.sample_rate,
         out.display()
     );
-    Ok(stagnated + failed)
+    Ok(Fallbacks::from_rolling(result))
 }
 
 #[derive(Serialize)]
@@ -408,7 +409,7 @@ mod tests {
         "#;
         let scenario = Scenario::parse(text, "small")?;
         let out = std::env::temp_dir().join(format!("tyreroad-rolling-cmd-{}", std::process::id()));
-        assert_eq!(run_rolling(&scenario, Path::new("."), &out)?, 0);
+        assert_eq!(run_rolling(&scenario, Path::new("."), &out)?.len(), 0);
         let ts = std::fs::read_to_string(out.join("time_signals.csv"))?;
         assert!(
             ts.starts_with("time_s,position_m,total_force_n,approach_m,contact_area_m2,n_contacts")
@@ -451,6 +452,47 @@ mod tests {
         std::fs::remove_dir_all(&out)?;
         Ok(())
     }
+    #[test]
+    fn a_run_where_nothing_touches_writes_its_outputs_and_says_so() -> Result<()> {
+        // The tread held 10 mm above the summits: no step has a contact, so
+        // no band has power; the run must end with its files, not with a
+        // chart's "no data".
+        let text = r#"
+            name = "nothing_touches"
+            [material]
+            youngs_modulus = "6.54 MPa"
+            poisson_ratio = 0.5
+            [rolling]
+            start = "30 mm"
+            end = "60 mm"
+            step = "1 mm"
+            speed = "50 km/h"
+            threads = 1
+            [rolling.tread]
+            kind = "tyre"
+            radius_x = "0.3 m"
+            radius_y = "0.5 m"
+            length = "50 mm"
+            width = "40 mm"
+            [rolling.control]
+            approach = "-10 mm"
+            [rolling.synthetic_road]
+            length = "0.1 m"
+            width = "0.05 m"
+            density = 40000
+        "#;
+        let scenario = Scenario::parse(text, "nothing_touches")?;
+        let out = std::env::temp_dir().join(format!("tyreroad-untouched-{}", std::process::id()));
+        assert_eq!(run_rolling(&scenario, Path::new("."), &out)?.len(), 0);
+        let ts = std::fs::read_to_string(out.join("time_signals.csv"))?;
+        assert_eq!(ts.lines().count(), 32);
+        assert!(ts.lines().skip(1).all(|l| l.split(',').nth(5) == Some("0")));
+        assert!(out.join("third_octave.csv").exists());
+        assert!(!out.join("third_octave.svg").exists());
+        std::fs::remove_dir_all(&out)?;
+        Ok(())
+    }
+
     #[test]
     fn a_sensor_that_never_sees_force_has_empty_levels_not_minus_infinity() -> Result<()> {
         let text = r#"

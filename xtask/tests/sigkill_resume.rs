@@ -1,6 +1,7 @@
 //! A rolling run killed with SIGKILL at any point and started again writes
 //! the same bytes as a run never interrupted, and leaves no half-written
-//! file (no checkpoint `.tmp`, no output staging directory) behind.
+//! file (no checkpoint `.tmp`, no output staging directory, no folder
+//! rebuilt for a swap beside the output folder) behind.
 //!
 //! The run is fixtures/rolling_small.toml with checkpoints on, rewritten
 //! after every step (`TYREROAD_CHECKPOINT_INTERVAL=0`) so that kills land
@@ -121,6 +122,10 @@ fn a_rolling_run_killed_at_any_point_resumes_to_identical_outputs() {
             std::fs::create_dir_all(out.join("checkpoint")).unwrap();
             let tmp = out.join("checkpoint/.0000000000000000-0-40.ckpt.tmp-1");
             std::fs::write(tmp, "half").unwrap();
+            // And a folder being rebuilt beside it when the kill came.
+            let next = root.join(".tyreroad-next-killed-1-plant1");
+            std::fs::create_dir_all(&next).unwrap();
+            std::fs::write(next.join("time_signals.csv"), "half").unwrap();
         }
         let resumed = xtask(&scenario, &out)
             .stdout(Stdio::piped())
@@ -160,6 +165,13 @@ fn a_rolling_run_killed_at_any_point_resumes_to_identical_outputs() {
         from_checkpoint >= 2,
         "only {from_checkpoint} runs resumed from a checkpoint"
     );
+    // No folder rebuilt for a swap stays beside the outputs.
+    let beside: Vec<String> = std::fs::read_dir(&root)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".tyreroad-"))
+        .collect();
+    assert!(beside.is_empty(), "{beside:?}");
     eprintln!("{killed} kills, {from_checkpoint} resumed from a checkpoint, run length {length:?}");
     std::fs::remove_dir_all(&root).unwrap();
 }

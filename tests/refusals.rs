@@ -1,0 +1,216 @@
+//! One regression test per class of bad value that issue 14 found ending in
+//! a panic, a runaway allocation, silent nonsense or an unclear error: each
+//! is now refused before anything is solved, by a message that names the
+//! key, the value and the range it must lie in. The messages are those of
+//! docs/validation.md's error-message audit.
+
+use tyreroad::scenario::Scenario;
+
+const PAPER: &str = include_str!("../fixtures/paper_25_spheres.toml");
+const TEXTURE_ROLLING: &str = include_str!("../fixtures/rolling_tyre_dense_asphalt.toml");
+const SMALL_ROLLING: &str = include_str!("../fixtures/rolling_small.toml");
+
+/// The message `base` with `from` replaced by `to` is refused with; it must
+/// contain every one of `needles` (the key, and the range or the reason).
+fn refusal(base: &str, from: &str, to: &str, needles: &[&str]) -> String {
+    assert!(base.contains(from), "the fixture lacks {from:?}");
+    let text = base.replacen(from, to, 1);
+    let message = match Scenario::parse(&text, "case") {
+        Ok(_) => panic!("{to:?} accepted"),
+        Err(e) => e.to_string(),
+    };
+    for needle in needles {
+        assert!(
+            message.contains(needle),
+            "{to:?}: {message:?} lacks {needle:?}"
+        );
+    }
+    // One line: a user reads it in a terminal, a CI log greps it.
+    assert!(!message.contains('\n'), "{message:?}");
+    eprintln!("{to:?} -> {message}");
+    message
+}
+
+#[test]
+fn absurd_radius_is_refused_with_its_key_and_range() {
+    for radius in ["1e10 m", "1e-9 m", "0 m", "-5 mm"] {
+        refusal(
+            PAPER,
+            "radius = \"5 mm\"",
+            &format!("radius = \"{radius}\""),
+            &["[default_shape] radius", "[1e-7, 1e3] m"],
+        );
+    }
+    // An asperity's own shape names the asperity.
+    refusal(
+        PAPER,
+        "id = 7\n",
+        "id = 7\nshape = { kind = \"sphere\", radius = \"2 km\" }\n",
+        &["[[asperity]] #7 shape radius"],
+    );
+}
+
+#[test]
+fn absurd_law_constant_is_refused_with_its_key_and_range() {
+    for c in ["1e3", "1e-6", "0", "-0.36"] {
+        refusal(
+            PAPER,
+            "constant = 0.36",
+            &format!("constant = {c}"),
+            &["[default_shape] constant", "[1e-3, 1e1]"],
+        );
+    }
+}
+
+#[test]
+fn absurd_modulus_is_refused_with_its_key_and_range() {
+    for e in ["1e-300 Pa", "1e13 Pa", "-1 MPa"] {
+        refusal(
+            PAPER,
+            "\"6.54 MPa\"",
+            &format!("\"{e}\""),
+            &["[material] youngs_modulus", "[1e3, 1e12] Pa"],
+        );
+    }
+}
+
+#[test]
+fn absurd_texture_scale_is_refused_with_its_key() {
+    refusal(
+        TEXTURE_ROLLING,
+        "spacing = \"0.25 mm\"",
+        "spacing = \"1e-9 m\"",
+        &["[texture.synth] spacing", "[1e-7, 1e3] m"],
+    );
+    refusal(
+        TEXTURE_ROLLING,
+        "nx = 2000 ",
+        "nx = 1 ",
+        &["[texture.synth] nx, ny", "at least 2 × 2 points"],
+    );
+}
+
+#[test]
+fn threads_far_above_the_machines_parallelism_are_refused() {
+    refusal(
+        SMALL_ROLLING,
+        "threads = 1",
+        "threads = 100000",
+        &["[rolling] threads", "cores"],
+    );
+}
+
+#[test]
+fn a_tolerance_that_misses_the_load_is_refused() {
+    refusal(
+        PAPER,
+        "[material]",
+        "[solver]\ntolerance = 1e3\n\n[material]",
+        &["[solver] tolerance", "[1e-15, 1e-3]"],
+    );
+}
+
+#[test]
+fn loads_speeds_and_forces_out_of_any_physical_range_are_refused() {
+    refusal(
+        PAPER,
+        "\"500 N\"",
+        "\"1e30 N\"",
+        &["[static] loads[3]", "N"],
+    );
+    refusal(
+        SMALL_ROLLING,
+        "speed = \"50 km/h\"",
+        "speed = \"1e30 m/s\"",
+        &["[rolling] speed", "5e2] m/s"],
+    );
+    refusal(
+        TEXTURE_ROLLING,
+        "reference_force = \"1 N\"",
+        "reference_force = \"1e-300 N\"",
+        &["[rolling] reference_force", "1e-12"],
+    );
+    refusal(
+        SMALL_ROLLING,
+        "load = \"30 N\"",
+        "tread_height = \"-1 mm\"",
+        &["[rolling.control] tread_height"],
+    );
+}
+
+#[test]
+fn a_step_that_overflows_or_allocates_without_bound_is_refused() {
+    for step in ["1e-300 m", "0.001 um", "0 m", "-1 mm"] {
+        refusal(
+            SMALL_ROLLING,
+            "step = \"1 mm\"",
+            &format!("step = \"{step}\""),
+            &["[rolling] step"],
+        );
+    }
+}
+
+#[test]
+fn a_synthetic_road_too_large_to_hold_is_refused() {
+    refusal(
+        SMALL_ROLLING,
+        "density = 85000",
+        "density = 85000\nmin_spacing = \"1e-9 m\"",
+        &["[rolling.synthetic_road] min_spacing"],
+    );
+}
+
+#[test]
+fn an_output_name_leading_out_of_the_folder_is_refused() {
+    for name in ["../x", "/tmp/x", "", "a\\nb", ".hidden"] {
+        refusal(
+            PAPER,
+            "name = \"paper_25_spheres\"",
+            &format!("name = \"{name}\""),
+            &["`case: name`", "a plain file name"],
+        );
+    }
+}
+
+#[test]
+fn duplicate_ids_and_sensor_names_are_refused() {
+    refusal(PAPER, "id = 2\n", "id = 1\n", &["#2 id", "#1 has it too"]);
+    refusal(
+        TEXTURE_ROLLING,
+        "name = \"shoulder\"",
+        "name = \"centre\"",
+        &["[[rolling.sensor]] #2 name", "no other sensor"],
+    );
+}
+
+#[test]
+fn sections_a_rolling_run_would_ignore_are_refused() {
+    refusal(
+        SMALL_ROLLING,
+        "\n[rolling]\n",
+        "\n[static]\nloads = [\"1 N\"]\n\n[rolling]\n",
+        &["[static]", "absent in a rolling scenario"],
+    );
+    refusal(
+        SMALL_ROLLING,
+        "\n[rolling]\n",
+        "\n[default_shape]\nkind = \"sphere\"\nradius = \"5 mm\"\n\n[rolling]\n",
+        &["[default_shape]", "absent unless [[asperity]]"],
+    );
+    refusal(
+        SMALL_ROLLING,
+        "\n[rolling]\n",
+        "\n[solver]\ntolerance = 1e-9\n\n[rolling]\ntolerance = 1e-9\n",
+        &["[rolling] tolerance", "one of the two"],
+    );
+}
+
+#[test]
+fn a_negative_texture_threshold_is_refused() {
+    refusal(
+        TEXTURE_ROLLING,
+        "min_prominence = \"0.1 mm\"",
+        "min_prominence = \"-0.1 mm\"",
+        &["[texture] min_prominence"],
+    );
+}

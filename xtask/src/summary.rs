@@ -1,0 +1,188 @@
+//! The final summary of `cargo xtask run`: every item that did not get the
+//! full-fidelity, converged result, with why; `--strict` turns any of them
+//! into a non-zero exit, after the outputs are written.
+
+use anyhow::Result;
+use tyreroad::multipoint::Convergence;
+use tyreroad::rolling::{RollingResult, StepStatus};
+use tyreroad::scenario::{StaticResult, TextureResult};
+
+/// Items listed one per line; beyond this many the rest are counted (each is
+/// in the outputs' status columns).
+const LISTED: usize = 20;
+
+/// What fell back in one run, and why.
+#[derive(Debug, Default)]
+pub struct Fallbacks {
+    items: Vec<String>,
+}
+
+impl Fallbacks {
+    /// The loads of a static run that did not converge (not written) or
+    /// stagnated (written, accepted above the tolerance).
+    pub fn from_static(r: &StaticResult) -> Self {
+        let mut f = Self::default();
+        f.add_static(r);
+        f
+    }
+
+    fn add_static(&mut self, r: &StaticResult) {
+        for (load, why) in &r.failed_loads {
+            self.items
+                .push(format!("load {load} N: not solved, not written ({why})"));
+        }
+        for run in &r.runs {
+            if let Convergence::Stagnated { residual } = run.convergence {
+                self.items.push(format!(
+                    "load {} N: the solve stagnated at a relative residual of {residual:.3e}, \
+                     above the tolerance but within the acceptable one (written)",
+                    run.load
+                ));
+            }
+        }
+    }
+
+    /// As [`Fallbacks::from_static`], and each asperity whose two-scale
+    /// field is a lower-fidelity fallback.
+    pub fn from_texture(r: &TextureResult) -> Self {
+        let mut f = Self::from_static(&r.statics);
+        let ids = r.ids();
+        for (run, per_load) in r.statics.runs.iter().zip(&r.loads) {
+            for (k, status) in per_load.two_scale.fallbacks() {
+                let id = ids.get(k).copied().unwrap_or(k as u32 + 1);
+                f.items.push(format!(
+                    "load {} N, asperity {id}: two-scale field {status}",
+                    run.load
+                ));
+            }
+        }
+        f
+    }
+
+    /// The rolling steps not `converged`: stagnated (kept, looser residual)
+    /// or failed (NaN in the outputs, bridged in the spectra).
+    pub fn from_rolling(r: &RollingResult) -> Self {
+        let mut f = Self::default();
+        for s in &r.steps {
+            let what = match s.status {
+                StepStatus::Converged => continue,
+                StepStatus::Stagnated => format!(
+                    "stagnated at a relative residual of {:.3e} (kept)",
+                    s.residual
+                ),
+                StepStatus::Failed => "failed (NaN in time_signals.csv)".to_owned(),
+            };
+            f.items.push(format!(
+                "step {} at x = {:.6} m: {what}",
+                s.index, s.position
+            ));
+        }
+        f
+    }
+
+    /// How many items fell back.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// The summary lines: one per item (at most [`LISTED`], then a count).
+    pub fn lines(&self) -> Vec<String> {
+        if self.items.is_empty() {
+            return vec!["summary: every item converged at full fidelity".to_owned()];
+        }
+        let mut lines = vec![format!(
+            "summary: {} items fell back or did not converge:",
+            self.items.len()
+        )];
+        lines.extend(self.items.iter().take(LISTED).map(|i| format!("  - {i}")));
+        if self.items.len() > LISTED {
+            lines.push(format!(
+                "  ... and {} more (see the status columns of the outputs)",
+                self.items.len() - LISTED
+            ));
+        }
+        lines
+    }
+
+    /// Prints the summary, then with `strict` fails when anything fell back.
+    ///
+    /// # Errors
+    /// With `strict`, when any item fell back (the outputs are written).
+    pub fn finish(&self, strict: bool) -> Result<()> {
+        for line in self.lines() {
+            println!("{line}");
+        }
+        if strict && self.len() > 0 {
+            anyhow::bail!(
+                "--strict: {} items fell back or did not converge (outputs written; listed \
+                 above)",
+                self.len()
+            );
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strict_fails_on_any_item_and_lists_each_with_its_reason() {
+        let mut f = Fallbacks::default();
+        assert!(f.finish(true).is_ok());
+        assert_eq!(f.lines().len(), 1);
+        f.items.push("load 50 N: not solved".into());
+        assert!(f.finish(false).is_ok());
+        let e = f.finish(true).map_err(|e| e.to_string());
+        assert!(e.is_err_and(|e| e.contains("--strict: 1 items")));
+        f.items.extend((0..30).map(|k| format!("step {k}")));
+        let lines = f.lines();
+        assert_eq!(lines.len(), 1 + LISTED + 1);
+        assert!(lines[1].contains("load 50 N: not solved"));
+        assert!(lines.last().is_some_and(|l| l.contains("11 more")));
+    }
+
+    #[test]
+    fn every_rolling_step_not_converged_is_listed_with_its_status() {
+        use tyreroad::rolling::{Recovery, StepRecord};
+        let step = |index: usize, status: StepStatus| StepRecord {
+            index,
+            position: 0.001 * index as f64,
+            time: 0.0,
+            total_force: 1.0,
+            approach: 1e-4,
+            contact_area: 0.0,
+            contacts: 1,
+            selected: 1,
+            iterations: 3,
+            status,
+            recovery: Recovery::None,
+            residual: 2e-9,
+            clearance: 1e-3,
+            overlapping: 0,
+            sensor_forces: Vec::new(),
+            contact_ids: vec![0],
+            contact_forces: vec![1.0],
+        };
+        let result = RollingResult {
+            steps: vec![
+                step(0, StepStatus::Converged),
+                step(1, StepStatus::Stagnated),
+                step(2, StepStatus::Failed),
+            ],
+            sample_rate: 1000.0,
+            resumed: 0,
+            input_hash: 0,
+        };
+        let f = Fallbacks::from_rolling(&result);
+        assert_eq!(f.len(), 2);
+        let lines = f.lines();
+        assert!(
+            lines[1]
+                .contains("step 1 at x = 0.001000 m: stagnated at a relative residual of 2.000e-9")
+        );
+        assert!(lines[2].contains("step 2 at x = 0.002000 m: failed"));
+        assert!(f.finish(true).is_err());
+    }
+}
