@@ -9,7 +9,8 @@
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files;
 //! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
-//!   texture against the full-BEM rolling reference.
+//!   texture against the full-BEM rolling reference; with
+//!   `--viscoelastic E_INF,E1@TAU1,...` the viscoelastic rolling BEM.
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 
@@ -18,6 +19,7 @@ mod charts;
 mod film_cmd;
 mod pressure_image;
 mod rolling_bem_cmd;
+mod rolling_visco_bem_cmd;
 mod rolling_cmd;
 mod statics;
 mod sweep_cmd;
