@@ -142,9 +142,7 @@ pub fn roll_visco_bem(
         )?;
         let step = match solved {
             Some((solution, approach)) => {
-                memory
-                    .commit(&history, &solution.pressure)
-                    .map_err(visco)?;
+                memory.commit(&history, &solution.pressure).map_err(visco)?;
                 let record = record_step(config, k, &solution, approach, window, g);
                 previous = Some((window, solution.pressure));
                 record

@@ -194,5 +194,8 @@ fn a_step_that_is_not_a_whole_number_of_cells_is_refused() {
     config.step = 1.5 * DX;
     let error = roll_visco_bem(&sphere_road(), &tread(), &config, &options())
         .expect_err("1.5 cells refused");
-    assert!(error.to_string().contains("whole number of cells"), "{error}");
+    assert!(
+        error.to_string().contains("whole number of cells"),
+        "{error}"
+    );
 }

@@ -113,7 +113,11 @@ fn a_fast_history_creeps_during_the_hold_and_unloads_with_hysteresis() {
     // Load carried at every step.
     for s in steps {
         let total: f64 = s.forces.iter().sum();
-        assert!((total - s.load).abs() < 1e-6 * s.load, "{total} vs {}", s.load);
+        assert!(
+            (total - s.load).abs() < 1e-6 * s.load,
+            "{total} vs {}",
+            s.load
+        );
     }
     // Creep: the approach grows during the hold at 20 N.
     assert!(steps[15].approach > 1.05 * steps[7].approach);
@@ -158,10 +162,7 @@ fn an_elastic_tread_and_bad_segments_are_refused_by_name() {
             .contains("[[static.history.segment]] 1 duration"),
         "{error}"
     );
-    let error = Scenario::parse(
-        &scenario("6 MPa", "[static.history]\nsteps = 3\n"),
-        "test",
-    )
-    .expect_err("no segment");
+    let error = Scenario::parse(&scenario("6 MPa", "[static.history]\nsteps = 3\n"), "test")
+        .expect_err("no segment");
     assert!(error.to_string().contains("segment"), "{error}");
 }

@@ -10,8 +10,8 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
 use tyreroad::bem_rolling::{
-    BemRollingOptions, BemRollingResult, Stretch, roll_bem, roll_visco_bem_scenario,
-    texture_field, third_octave_policy,
+    BemRollingOptions, BemRollingResult, Stretch, roll_bem, roll_visco_bem_scenario, texture_field,
+    third_octave_policy,
 };
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
@@ -25,9 +25,8 @@ use crate::rolling_bem_cmd::RollingBemArgs;
 pub fn parse_prony(text: &str, poisson_ratio: f64) -> Result<Prony> {
     let mut fields = text.split(',').map(str::trim);
     let number = |s: &str, what: &str| -> Result<f64> {
-        s.parse::<f64>().with_context(|| {
-            format!("--viscoelastic: {what} {s:?} is not a number (SI: Pa, s)")
-        })
+        s.parse::<f64>()
+            .with_context(|| format!("--viscoelastic: {what} {s:?} is not a number (SI: Pa, s)"))
     };
     let long_term = number(fields.next().unwrap_or(""), "E_inf")?;
     let branches = fields
@@ -97,7 +96,11 @@ pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
     let segment = args
         .segment
         .or(scenario.rolling.as_ref().and_then(|r| r.segment));
-    let runs = [("viscoelastic", &visco), ("E_inf", &relaxed), ("E_0", &glassy)];
+    let runs = [
+        ("viscoelastic", &visco),
+        ("E_inf", &relaxed),
+        ("E_0", &glassy),
+    ];
     println!(
         "{}: {} steps at {} m/s (Δt = {:.3e} s), BEM window {} × {} cells, viscoelastic run {visco_time:.1} s, {} failed steps",
         scenario.name,
@@ -108,7 +111,10 @@ pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
         visco.window.1,
         visco.failed()
     );
-    println!("{:<14} {:>16} {:>16}", "run", "mean force (N)", "mean approach (mm)");
+    println!(
+        "{:<14} {:>16} {:>16}",
+        "run", "mean force (N)", "mean approach (mm)"
+    );
     for (label, r) in runs {
         println!(
             "{label:<14} {:>16.4} {:>16.5}",
@@ -227,7 +233,10 @@ mod tests {
         assert_eq!(tread.branches().len(), 2);
         assert!((tread.instantaneous() - 10e6).abs() < 1e-6);
         let error = parse_prony("2e6,3e6", 0.5).expect_err("no time");
-        assert!(error.to_string().contains("MODULUS@RELAXATION_TIME"), "{error}");
+        assert!(
+            error.to_string().contains("MODULUS@RELAXATION_TIME"),
+            "{error}"
+        );
         let error = parse_prony("2 MPa", 0.5).expect_err("units");
         assert!(error.to_string().contains("E_inf"), "{error}");
     }

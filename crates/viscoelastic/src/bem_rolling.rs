@@ -258,7 +258,10 @@ mod tests {
         memory.shift(1, 0);
         for j in 0..2 {
             for i in 0..3 {
-                assert_eq!(memory.equivalent[j * 4 + i], before.equivalent[j * 4 + i + 1]);
+                assert_eq!(
+                    memory.equivalent[j * 4 + i],
+                    before.equivalent[j * 4 + i + 1]
+                );
             }
             assert_eq!(memory.equivalent[j * 4 + 3], 0.0);
             assert_eq!(memory.branch_pressure[(j * 4 + 3) * 2], 0.0);
