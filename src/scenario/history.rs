@@ -1,7 +1,8 @@
 //! `[static.history]`: a loading history (ramp, hold, unload) on a static
 //! scenario's `[[asperity]]` list, run by the hereditary multipoint model
 //! (the steps of [`tyreroad_viscoelastic::run_load_history`]) with a viscoelastic tread
-//! (docs/scenario.md, "Loading history"; docs/viscoelastic.md).
+//! (README.md, "Scenario files"; docs/viscoelastic.md, "Loading history in
+//! scenario files").
 //!
 //! ```toml
 //! [static.history]
