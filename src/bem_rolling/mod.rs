@@ -59,12 +59,14 @@
 
 mod compare;
 mod run_scenario;
+mod visco;
 
 pub use compare::{
     BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
     third_octave_policy,
 };
 pub use run_scenario::{BemRollingRun, Stretch, run_scenario_comparison, texture_field};
+pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
 
 use crate::bem::{BemError, BemOptions, BemSolution, Control, Solver};
 use crate::rolling::{RollingConfig, RollingControl, Sensor, StepStatus};
@@ -511,3 +513,5 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod visco_tests;

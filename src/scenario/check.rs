@@ -155,8 +155,15 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
         check_shape("[default_shape]", shape)?;
     }
     if let Some(s) = &scenario.static_case {
-        if s.loads.is_empty() {
-            return Err(bad("[static] loads", "[]", "at least one load"));
+        if s.loads.is_empty() && s.history.is_none() {
+            return Err(bad(
+                "[static] loads",
+                "[]",
+                "at least one load (or a [static.history])",
+            ));
+        }
+        if let Some(history) = &s.history {
+            history.samples()?;
         }
         for (k, w) in s.loads.iter().enumerate() {
             in_range(

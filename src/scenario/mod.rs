@@ -21,6 +21,7 @@
 mod bem;
 mod check;
 mod error;
+mod history;
 pub mod output;
 mod rolling;
 mod rolling_spec;
@@ -37,6 +38,10 @@ pub use bem::{
 };
 pub use check::check_name;
 pub use error::ScenarioError;
+pub use history::{
+    DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, SegmentSpec,
+    run_load_history_scenario, write_history_csv,
+};
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use spec::{
@@ -212,6 +217,15 @@ impl Scenario {
         if self.texture.is_some() {
             return texture::run_texture_static(self, &options.base_dir)
                 .map(ScenarioResult::Texture);
+        }
+        if self
+            .static_case
+            .as_ref()
+            .is_some_and(|s| s.history.is_some())
+        {
+            // `[material]` here is elastic: a loading history means nothing
+            // for it (`run_load_history_scenario` takes the viscoelastic one).
+            return Err(history::elastic_refusal());
         }
         run_static(self).map(ScenarioResult::Static)
     }

@@ -350,7 +350,11 @@ pub enum ShapeSpec {
 #[serde(deny_unknown_fields)]
 pub struct StaticSpec {
     /// Total loads to solve at.
+    #[serde(default)]
     pub loads: Vec<Force>,
+    /// `[static.history]`: a loading history for a viscoelastic tread
+    /// (`super::history`).
+    pub history: Option<super::history::HistorySpec>,
 }
 
 /// `[[asperity]]`

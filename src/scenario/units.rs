@@ -84,6 +84,19 @@ dimension!(
     ]
 );
 
+dimension!(
+    TimeDim,
+    "time",
+    [
+        ("s", 1.0),
+        ("ms", 1e-3),
+        ("us", 1e-6),
+        ("µs", 1e-6),
+        ("μs", 1e-6),
+        ("min", 60.0),
+    ]
+);
+
 /// A value of dimension `D`, held in SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quantity<D> {
@@ -205,6 +218,8 @@ pub type Angle = Quantity<AngleDim>;
 pub type Speed = Quantity<SpeedDim>;
 /// An area (m²).
 pub type Area = Quantity<AreaDim>;
+/// A duration (s).
+pub type Time = Quantity<TimeDim>;
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]

@@ -9,16 +9,21 @@
 //!   pressure-film scan analysed print by print;
 //! - `texture info FILE` / `texture synth ...`: road texture files;
 //! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
-//!   texture against the full-BEM rolling reference.
+//!   texture against the full-BEM rolling reference; with
+//!   `--viscoelastic E_INF,E1@TAU1,...` the viscoelastic rolling BEM.
+//! - `history SCENARIO --viscoelastic E_INF,E1@TAU1,...`: a static
+//!   scenario's `[static.history]` with a viscoelastic tread;
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 
 mod bem_validation;
 mod charts;
 mod film_cmd;
+mod history_cmd;
 mod pressure_image;
 mod rolling_bem_cmd;
 mod rolling_cmd;
+mod rolling_visco_bem_cmd;
 mod statics;
 mod summary;
 mod sweep_cmd;
@@ -84,6 +89,8 @@ enum Command {
     /// Roll a scenario over MPI ranks (start with mpirun); rank 0 writes.
     #[cfg(feature = "mpi")]
     MpiRun(sweep_cmd::MpiRunArgs),
+    /// Run a static scenario's `[static.history]` with a viscoelastic tread.
+    History(history_cmd::HistoryArgs),
 }
 
 fn main() -> Result<()> {
@@ -94,6 +101,7 @@ fn main() -> Result<()> {
         Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
         Command::Sweep(args) => sweep_cmd::run(&args),
+        Command::History(args) => history_cmd::run(&args),
         #[cfg(feature = "mpi")]
         Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {

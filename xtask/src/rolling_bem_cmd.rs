@@ -2,6 +2,8 @@
 //! scenario on a texture run over the same stretch by the multipoint model
 //! and by the full-BEM reference (`tyreroad::bem_rolling`); prints the
 //! comparison table and writes the signals, the band levels and the charts.
+//! With `--viscoelastic` it runs the viscoelastic rolling BEM instead
+//! (`rolling_visco_bem_cmd`).
 
 use std::path::{Path, PathBuf};
 
@@ -39,10 +41,22 @@ pub struct RollingBemArgs {
     /// Relative tolerance of each BEM step.
     #[arg(long, default_value_t = 1e-7)]
     pub tolerance: f64,
+    /// A viscoelastic tread `E_INF,E1@TAU1,E2@TAU2,...` (Pa, s): run the
+    /// viscoelastic rolling BEM and the elastic one at its two limit
+    /// moduli instead of the multipoint comparison.
+    #[arg(long)]
+    pub viscoelastic: Option<String>,
+    /// Driving speed (m/s) of the viscoelastic run, instead of the
+    /// scenario's.
+    #[arg(long, requires = "viscoelastic")]
+    pub speed: Option<f64>,
 }
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
+    if let Some(tread) = &args.viscoelastic {
+        return crate::rolling_visco_bem_cmd::run(args, tread);
+    }
     let scenario = Scenario::from_path(&args.scenario)?;
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));

@@ -35,7 +35,9 @@
 //! step is an elastic BEM contact of modulus `E_eff` on the road raised by
 //! the history's displacement, with the full complementarity conditions, so
 //! it needs no assumption on growing contacts and judges unloading too.
-//! [`compare_on_spheres`] runs both on a field of spheres.
+//! [`compare_on_spheres`] runs both on a field of spheres. In rolling,
+//! [`TreadMemory`] carries the same per-cell variables with the road (the
+//! tread does not slip on it) as the footprint window moves.
 //!
 //! # Example
 //!
@@ -52,6 +54,7 @@
 //! ```
 
 mod bem;
+mod bem_rolling;
 mod compare;
 mod error;
 mod fit;
@@ -60,6 +63,7 @@ mod prony;
 mod sphere;
 
 pub use bem::{ViscoBem, ViscoBemStep};
+pub use bem_rolling::{StepHistory, TreadMemory};
 pub use compare::{Comparison, SphereField, compare_on_spheres};
 pub use error::ViscoError;
 pub use fit::{MasterCurve, fit_prony, fit_prony_with_times};

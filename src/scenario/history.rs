@@ -1,0 +1,288 @@
+//! `[static.history]`: a loading history (ramp, hold, unload) on a static
+//! scenario's `[[asperity]]` list, run by the hereditary multipoint model
+//! (the steps of [`tyreroad_viscoelastic::run_load_history`]) with a viscoelastic tread
+//! (README.md, "Scenario files"; docs/viscoelastic.md, "Loading history in
+//! scenario files").
+//!
+//! ```toml
+//! [static.history]
+//! steps = 10              # steps per segment (default 10)
+//!
+//! [[static.history.segment]]
+//! duration = "2 ms"       # a ramp from 0 to 100 N
+//! load = "100 N"
+//!
+//! [[static.history.segment]]
+//! duration = "2 ms"       # a hold: the same load
+//! load = "100 N"
+//!
+//! [[static.history.segment]]
+//! duration = "2 ms"       # unloading to 60 N
+//! load = "60 N"
+//! steps = 20              # this segment's own step count
+//! ```
+//!
+//! Each segment goes linearly, in time, from the previous segment's end
+//! load (0 N at time 0) to its `load` over its `duration`. An elastic
+//! material has no history, so a history with one is refused, naming
+//! `[material]`.
+
+use serde::Deserialize;
+use tyreroad_viscoelastic::{Hereditary, Prony, ViscoStep};
+
+use super::output::{OutputSet, fmt};
+use super::units::{Force, Time};
+use super::{Scenario, ScenarioError};
+
+/// `[static.history]`: the segments and their default step count.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HistorySpec {
+    /// Steps per segment when a segment gives none (default 10).
+    pub steps: Option<usize>,
+    /// The segments, in time order.
+    #[serde(rename = "segment", default)]
+    pub segments: Vec<SegmentSpec>,
+}
+
+/// `[[static.history.segment]]`: a linear change of the load.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// How long the segment lasts.
+    pub duration: Time,
+    /// The total load at its end (the previous end load held is a hold).
+    pub load: Force,
+    /// Its steps (default `[static.history] steps`).
+    pub steps: Option<usize>,
+}
+
+/// Default steps per segment.
+pub const DEFAULT_SEGMENT_STEPS: usize = 10;
+
+impl HistorySpec {
+    /// The history as `(time (s), load (N))` samples after time 0.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming the segment's key for no segment, a
+    /// duration that is not `> 0`, a negative load or zero steps.
+    pub fn samples(&self) -> Result<Vec<(f64, f64)>, ScenarioError> {
+        let value = |key: String, value: String, expected: &str| ScenarioError::Value {
+            key,
+            value,
+            expected: expected.into(),
+        };
+        if self.segments.is_empty() {
+            return Err(value(
+                "[static.history] segment".into(),
+                "none".into(),
+                "at least one [[static.history.segment]] (duration, load)",
+            ));
+        }
+        if self.steps == Some(0) {
+            return Err(value(
+                "[static.history] steps".into(),
+                "0".into(),
+                "at least 1",
+            ));
+        }
+        let (mut time, mut load) = (0.0, 0.0);
+        let mut samples = Vec::new();
+        for (k, segment) in self.segments.iter().enumerate() {
+            let key = |name: &str| format!("[[static.history.segment]] {} {name}", k + 1);
+            let duration = segment.duration.value();
+            if !(duration.is_finite() && duration > 0.0) {
+                return Err(value(
+                    key("duration"),
+                    format!("{duration} s"),
+                    "a time > 0",
+                ));
+            }
+            let end = segment.load.value();
+            if !(end.is_finite() && end >= 0.0) {
+                return Err(value(key("load"), format!("{end} N"), "a force >= 0"));
+            }
+            let steps = segment
+                .steps
+                .or(self.steps)
+                .unwrap_or(DEFAULT_SEGMENT_STEPS);
+            if steps == 0 {
+                return Err(value(key("steps"), "0".into(), "at least 1"));
+            }
+            for j in 1..=steps {
+                let s = j as f64 / steps as f64;
+                samples.push((time + s * duration, load + s * (end - load)));
+            }
+            time += duration;
+            load = end;
+        }
+        Ok(samples)
+    }
+}
+
+/// One step of a history run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryStep {
+    /// Time at the step's end (s).
+    pub time: f64,
+    /// Imposed total load (N).
+    pub load: f64,
+    /// Rigid approach `δ0` (m).
+    pub approach: f64,
+    /// Asperity forces (N), in `[[asperity]]` order.
+    pub forces: Vec<f64>,
+    /// Asperities whose contact receded over the step.
+    pub receding: usize,
+}
+
+/// A loading history's run: the steps solved, in time order, and the
+/// failure that ended it early, if any (the later steps depend on it, so
+/// none is solved after it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryResult {
+    /// The scenario's name.
+    pub name: String,
+    /// Asperity labels, in order.
+    pub ids: Vec<u32>,
+    /// The steps solved.
+    pub steps: Vec<HistoryStep>,
+    /// Why the run stopped before the history's end.
+    pub failure: Option<String>,
+}
+
+/// Runs the scenario's `[static.history]` on its `[[asperity]]` list with
+/// the viscoelastic tread `material` (its Poisson's ratio must be the
+/// scenario's `[material]` one, whose modulus only serves as the laws'
+/// reference and is divided out).
+///
+/// # Errors
+/// [`ScenarioError::Value`] naming `[material]` when `material` is `None`
+/// (an elastic tread has no loading history); [`ScenarioError::Invalid`]
+/// without `[static.history]`, on a `[texture]` or `[rolling]` scenario, or
+/// when no step could be solved; the errors of
+/// [`HistorySpec::samples`] and of the problem's construction.
+pub fn run_load_history_scenario(
+    scenario: &Scenario,
+    material: Option<&Prony>,
+) -> Result<HistoryResult, ScenarioError> {
+    let Some(history) = scenario
+        .static_case
+        .as_ref()
+        .and_then(|s| s.history.as_ref())
+    else {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: no [static.history] section",
+            scenario.name
+        )));
+    };
+    let Some(material) = material else {
+        return Err(elastic_refusal());
+    };
+    if scenario.texture.is_some() || scenario.rolling.is_some() {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: [static.history] runs on an [[asperity]] list, not with a \
+             [texture] or [rolling] section",
+            scenario.name
+        )));
+    }
+    let samples = history.samples()?;
+    let problem = scenario.problem()?;
+    let mut solver = Hereditary::new(&problem, material.clone(), scenario.solver_options())
+        .map_err(|e| ScenarioError::Value {
+            key: "[material] poisson_ratio".into(),
+            value: e.to_string(),
+            expected: "the viscoelastic tread's Poisson's ratio".into(),
+        })?;
+    // Stepped here rather than by `run_load_history` so that a failing step
+    // ends the run as a recorded failure and keeps the steps before it.
+    let mut steps = Vec::with_capacity(samples.len());
+    let mut failure = None;
+    for &(time, load) in &samples {
+        match solver.step_load(time - solver.time(), load) {
+            Ok(step) => steps.push(history_step(step, load)),
+            Err(error) => {
+                failure = Some(error.to_string());
+                break;
+            }
+        }
+    }
+    if steps.is_empty() {
+        return Err(ScenarioError::Invalid(format!(
+            "scenario {}: [static.history]: no step solved ({})",
+            scenario.name,
+            failure.unwrap_or_default()
+        )));
+    }
+    Ok(HistoryResult {
+        name: scenario.name.clone(),
+        ids: scenario.ids(),
+        steps,
+        failure,
+    })
+}
+
+/// The error for a `[static.history]` with an elastic tread.
+pub(crate) fn elastic_refusal() -> ScenarioError {
+    ScenarioError::Value {
+        key: "[material]".into(),
+        value: "an elastic tread".into(),
+        expected: "a viscoelastic tread (Prony series): [static.history] needs one, \
+                   an elastic tread's force does not depend on the loading history"
+            .into(),
+    }
+}
+
+fn history_step(step: ViscoStep, load: f64) -> HistoryStep {
+    HistoryStep {
+        time: step.time,
+        load,
+        approach: step.approach,
+        forces: step.forces,
+        receding: step.receding,
+    }
+}
+
+/// One row of `history.csv`.
+#[derive(serde::Serialize)]
+struct HistoryRow {
+    #[serde(serialize_with = "fmt::sci9")]
+    time_s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    load_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_m: f64,
+    receding: usize,
+    id: u32,
+    #[serde(serialize_with = "fmt::sci9")]
+    force_n: f64,
+}
+
+/// Writes `history.csv` into `set`: one row per step and asperity (time,
+/// load, approach, receding count, asperity id, its force), time-major.
+///
+/// # Errors
+/// As [`OutputSet::write_csv`].
+pub fn write_history_csv(result: &HistoryResult, set: &mut OutputSet) -> Result<(), ScenarioError> {
+    let rows: Vec<HistoryRow> = result
+        .steps
+        .iter()
+        .flat_map(|s| {
+            s.forces
+                .iter()
+                .zip(&result.ids)
+                .map(|(force, id)| HistoryRow {
+                    time_s: s.time,
+                    load_n: s.load,
+                    approach_m: s.approach,
+                    receding: s.receding,
+                    id: *id,
+                    force_n: *force,
+                })
+        })
+        .collect();
+    set.write_csv("history.csv", &rows)
+}
+
+#[cfg(test)]
+#[path = "history_tests.rs"]
+mod tests;

@@ -1,0 +1,58 @@
+//! `cargo xtask history SCENARIO --viscoelastic E_INF,E1@TAU1,... [--out DIR]`:
+//! a static scenario's `[static.history]` run by the hereditary model with
+//! the given tread (docs/viscoelastic.md, "Loading history in scenario
+//! files"); prints one line per step and writes `history.csv`.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use tyreroad::scenario::output::OutputSet;
+use tyreroad::scenario::{Scenario, run_load_history_scenario, write_history_csv};
+
+use crate::rolling_visco_bem_cmd::parse_prony;
+
+/// Arguments of `history`.
+#[derive(clap::Args)]
+pub struct HistoryArgs {
+    /// A static scenario with a `[static.history]` on an `[[asperity]]` list.
+    pub scenario: PathBuf,
+    /// The viscoelastic tread `E_INF,E1@TAU1,E2@TAU2,...` (Pa, s), with the
+    /// scenario's Poisson's ratio.
+    #[arg(long)]
+    pub viscoelastic: String,
+    /// Output directory.
+    #[arg(long, default_value = "validation/history")]
+    pub out: PathBuf,
+}
+
+/// Runs the history, prints the steps, writes `history.csv`.
+pub fn run(args: &HistoryArgs) -> Result<()> {
+    let scenario = Scenario::from_path(&args.scenario)?;
+    let tread = parse_prony(&args.viscoelastic, scenario.material()?.poisson_ratio())?;
+    let result = run_load_history_scenario(&scenario, Some(&tread))?;
+    println!(
+        "{:>12} {:>12} {:>14} {:>9}",
+        "time (ms)", "load (N)", "approach (mm)", "receding"
+    );
+    for s in &result.steps {
+        println!(
+            "{:>12.4} {:>12.4} {:>14.6} {:>9}",
+            1e3 * s.time,
+            s.load,
+            1e3 * s.approach,
+            s.receding
+        );
+    }
+    if let Some(failure) = &result.failure {
+        println!("stopped early: {failure}");
+    }
+    let mut set = OutputSet::new(&args.out)?;
+    write_history_csv(&result, &mut set)?;
+    for path in set.commit()? {
+        println!("wrote {}", path.display());
+    }
+    if result.failure.is_some() {
+        anyhow::bail!("the history stopped before its end (outputs written)");
+    }
+    Ok(())
+}

@@ -1,0 +1,243 @@
+//! `cargo xtask rolling-bem SCENARIO --viscoelastic E_INF,E1@TAU1,... [--speed V]`:
+//! the viscoelastic rolling BEM reference (`tyreroad::bem_rolling::roll_visco_bem`)
+//! over the scenario's stretch, beside the elastic rolling BEM with the
+//! tread's two limit moduli `E∞` and `E∞ + Σ E_k` on the same stretch.
+//! Prints the mean force, approach and total-force band levels of the three
+//! runs and writes their steps, sensor forces and bands.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use serde::Serialize;
+use tyreroad::bem_rolling::{
+    BemRollingOptions, BemRollingResult, Stretch, roll_bem, roll_visco_bem_scenario, texture_field,
+    third_octave_policy,
+};
+use tyreroad::scenario::output::{OutputSet, fmt};
+use tyreroad::scenario::{Par, Scenario};
+use tyreroad::shared::Material;
+use tyreroad::viscoelastic::{Branch, Prony};
+
+use crate::rolling_bem_cmd::RollingBemArgs;
+
+/// The tread from `E_INF,E1@TAU1,E2@TAU2,...` (Pa and s), with the
+/// scenario's Poisson's ratio.
+pub fn parse_prony(text: &str, poisson_ratio: f64) -> Result<Prony> {
+    let mut fields = text.split(',').map(str::trim);
+    let number = |s: &str, what: &str| -> Result<f64> {
+        s.parse::<f64>()
+            .with_context(|| format!("--viscoelastic: {what} {s:?} is not a number (SI: Pa, s)"))
+    };
+    let long_term = number(fields.next().unwrap_or(""), "E_inf")?;
+    let branches = fields
+        .map(|branch| {
+            let Some((modulus, time)) = branch.split_once('@') else {
+                bail!("--viscoelastic: branch {branch:?} must be MODULUS@RELAXATION_TIME (Pa@s)");
+            };
+            Ok(Branch {
+                modulus: number(modulus.trim(), "branch modulus")?,
+                relaxation_time: number(time.trim(), "relaxation time")?,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Prony::new(long_term, branches, poisson_ratio)?)
+}
+
+/// Runs the viscoelastic BEM and the two elastic limits, prints, writes.
+pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
+    let scenario = Scenario::from_path(&args.scenario)?;
+    let base = args.scenario.parent().unwrap_or(Path::new("."));
+    let elastic = scenario.material()?;
+    let material = parse_prony(tread, elastic.poisson_ratio())?;
+    let options = BemRollingOptions {
+        tolerance: args.tolerance,
+        par: Par::rayon(args.threads),
+        ..BemRollingOptions::default()
+    };
+    let stretch = Stretch {
+        start: args.from,
+        steps: Some(args.steps),
+        segment: args.segment,
+    };
+    let clock = std::time::Instant::now();
+    let visco = roll_visco_bem_scenario(
+        &scenario,
+        base,
+        stretch,
+        &material,
+        args.speed,
+        options.par,
+        &options,
+    )?;
+    let visco_time = clock.elapsed().as_secs_f64();
+    // The elastic limits on the same road, path and sensors.
+    let Some(texture) = scenario.texture.as_ref() else {
+        bail!("the scenario has no [texture]");
+    };
+    let road = texture_field(&texture.height_map(base)?)?;
+    let config = {
+        let Some(spec) = scenario.rolling.as_ref() else {
+            bail!("the scenario has no [rolling] section");
+        };
+        let mut c = spec.config()?;
+        c.start = visco.steps[0].position;
+        c.end = visco.steps[visco.steps.len() - 1].position;
+        if let Some(v) = args.speed {
+            c.speed = v;
+        }
+        c
+    };
+    let limit = |modulus: f64| -> Result<BemRollingResult> {
+        let m = Material::new(modulus, elastic.poisson_ratio())?;
+        Ok(roll_bem(&road, m, &config, &options)?)
+    };
+    let relaxed = limit(material.long_term())?;
+    let glassy = limit(material.instantaneous())?;
+    let segment = args
+        .segment
+        .or(scenario.rolling.as_ref().and_then(|r| r.segment));
+    let runs = [
+        ("viscoelastic", &visco),
+        ("E_inf", &relaxed),
+        ("E_0", &glassy),
+    ];
+    println!(
+        "{}: {} steps at {} m/s (Δt = {:.3e} s), BEM window {} × {} cells, viscoelastic run {visco_time:.1} s, {} failed steps",
+        scenario.name,
+        visco.steps.len(),
+        config.speed,
+        config.step / config.speed,
+        visco.window.0,
+        visco.window.1,
+        visco.failed()
+    );
+    println!(
+        "{:<14} {:>16} {:>16}",
+        "run", "mean force (N)", "mean approach (mm)"
+    );
+    for (label, r) in runs {
+        println!(
+            "{label:<14} {:>16.4} {:>16.5}",
+            mean(&r.total_force()),
+            1e3 * mean(&r.approach())
+        );
+    }
+    let mut set = OutputSet::new(&args.out)?;
+    write_outputs(&runs, &config.sensors, segment, &mut set)?;
+    for path in set.commit()? {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn mean(v: &[f64]) -> f64 {
+    let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    finite.iter().sum::<f64>() / finite.len().max(1) as f64
+}
+
+/// One step of one run.
+#[derive(Serialize)]
+struct StepRow<'a> {
+    run: &'a str,
+    step: usize,
+    #[serde(serialize_with = "fmt::sci9")]
+    time_s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    position_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_m2: f64,
+}
+
+/// One sensor of one run at one step.
+#[derive(Serialize)]
+struct SensorRow<'a> {
+    run: &'a str,
+    step: usize,
+    sensor: &'a str,
+    #[serde(serialize_with = "fmt::sci9")]
+    force_n: f64,
+}
+
+/// One band of one signal of one run.
+#[derive(Serialize)]
+struct BandRow<'a> {
+    run: &'a str,
+    signal: &'a str,
+    band_nominal_hz: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    level_db: f64,
+}
+
+fn write_outputs(
+    runs: &[(&str, &BemRollingResult)],
+    sensors: &[tyreroad::rolling::Sensor],
+    segment: Option<usize>,
+    set: &mut OutputSet,
+) -> Result<()> {
+    let mut steps = Vec::new();
+    let mut rows = Vec::new();
+    let mut bands = Vec::new();
+    for &(run, r) in runs {
+        steps.extend(r.steps.iter().map(|s| StepRow {
+            run,
+            step: s.index,
+            time_s: s.time,
+            position_m: s.position,
+            total_force_n: s.total_force,
+            approach_m: s.approach,
+            contact_area_m2: s.contact_area,
+        }));
+        for (k, sensor) in sensors.iter().enumerate() {
+            rows.extend(r.steps.iter().map(|s| SensorRow {
+                run,
+                step: s.index,
+                sensor: &sensor.name,
+                force_n: s.sensor_forces[k],
+            }));
+        }
+        let signals = std::iter::once(("total".to_string(), r.total_force()))
+            .chain((0..sensors.len()).map(|k| (sensors[k].name.clone(), r.sensor(k))));
+        for (signal, values) in signals {
+            let levels = third_octave_policy(&values, r.sample_rate, 1.0, segment)?;
+            for b in levels {
+                bands.push((run, signal.clone(), b.band.nominal, b.level_db));
+            }
+        }
+    }
+    set.write_csv("rolling_visco_bem_steps.csv", &steps)?;
+    set.write_csv("rolling_visco_bem_sensors.csv", &rows)?;
+    let bands: Vec<BandRow<'_>> = bands
+        .iter()
+        .map(|(run, signal, nominal, level)| BandRow {
+            run,
+            signal,
+            band_nominal_hz: *nominal,
+            level_db: *level,
+        })
+        .collect();
+    set.write_csv("rolling_visco_bem_bands.csv", &bands)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tread_is_parsed_and_bad_text_is_named() {
+        let tread = parse_prony("2e6, 3e6@1e-3, 5e6@2e-5", 0.5).expect("valid");
+        assert_eq!(tread.branches().len(), 2);
+        assert!((tread.instantaneous() - 10e6).abs() < 1e-6);
+        let error = parse_prony("2e6,3e6", 0.5).expect_err("no time");
+        assert!(
+            error.to_string().contains("MODULUS@RELAXATION_TIME"),
+            "{error}"
+        );
+        let error = parse_prony("2 MPa", 0.5).expect_err("units");
+        assert!(error.to_string().contains("E_inf"), "{error}");
+    }
+}
