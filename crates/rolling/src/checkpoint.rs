@@ -85,6 +85,14 @@ pub fn input_hash<L: ContactLaw>(
             h.f(l.stiffness);
         }
     }
+    // Summit radii change the gaps (contact-point gaps); a road without
+    // them hashes as before.
+    if road.summit_radius(0).is_finite() {
+        h.u(3);
+        for id in 0..road.len() {
+            h.f(road.summit_radius(id));
+        }
+    }
     h.f(material.youngs_modulus());
     h.f(material.poisson_ratio());
     match config.tread {

@@ -2,6 +2,8 @@
 
 use tyreroad_multipoint::AsperitySet;
 
+use crate::RollingError;
+
 /// A road surface reduced to asperities: an [`AsperitySet`] (summit
 /// positions `(x_i, y_i)`, x along the driving direction, y across, m;
 /// summit heights `z_i`, m, up towards the tread; one contact law each)
@@ -21,6 +23,9 @@ pub struct Road<L> {
     sorted_x: Vec<f64>,
     /// `set.top()`, read at every step.
     top: f64,
+    /// Summit curvature radius per id (m), if known: the tread gap is then
+    /// measured at the contact point ([`crate::Tread::contact_gap`]).
+    summit_radii: Option<Vec<f64>>,
 }
 
 impl<L> Road<L> {
@@ -37,7 +42,46 @@ impl<L> Road<L> {
             by_x,
             sorted_x,
             top,
+            summit_radii: None,
         }
+    }
+
+    /// The same road with each asperity's summit curvature radius (m, by
+    /// id), so that each step's gap is measured at the point of the cap
+    /// closest to the tread, not at the summit ([`crate::Tread::contact_gap`];
+    /// without radii the gaps are the summits').
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] if the count differs from the road's
+    /// or a radius is not finite and positive.
+    pub fn with_summit_radii(mut self, radii: Vec<f64>) -> Result<Self, RollingError> {
+        if radii.len() != self.set.len() {
+            return Err(RollingError::InvalidInput(format!(
+                "summit radii: {} given for {} asperities",
+                radii.len(),
+                self.set.len()
+            )));
+        }
+        if let Some((i, r)) = radii
+            .iter()
+            .enumerate()
+            .find(|(_, r)| !(r.is_finite() && **r > 0.0))
+        {
+            return Err(RollingError::InvalidInput(format!(
+                "summit radius of asperity {i}: expected finite and > 0 m, got {r}"
+            )));
+        }
+        self.summit_radii = Some(radii);
+        Ok(self)
+    }
+
+    /// The summit curvature radius of asperity `id` (m), infinite if the
+    /// road has none.
+    pub fn summit_radius(&self, id: usize) -> f64 {
+        self.summit_radii
+            .as_ref()
+            .and_then(|r| r.get(id).copied())
+            .unwrap_or(f64::INFINITY)
     }
 
     /// The road's asperities.
