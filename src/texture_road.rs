@@ -255,17 +255,7 @@ impl TextureRoad {
                     top: a.summit_height,
                     floor,
                 };
-                // The larger of the summit's curvature radius and the
-                // secant radius of the whole cap: a flat-topped or blunt
-                // chipping has a sharp-looking summit fit but spreads its
-                // contact like a far larger sphere, and the local grid must
-                // be sized for that.
-                let d = 0.25 * law.geometry().max_depth();
-                let secant = law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d);
-                let equivalent_radius = match a.fit {
-                    Some(f) => (f.radii.0 * f.radii.1).sqrt().max(secant),
-                    None => secant,
-                };
+                let equivalent_radius = equivalent_radius(a, law);
                 LocalShape::Custom {
                     height: Arc::new(move |dx, dy| basin.height(dx, dy)),
                     equivalent_radius,
@@ -273,6 +263,33 @@ impl TextureRoad {
             })
             .collect();
         Ok(shapes)
+    }
+}
+
+impl TextureRoad {
+    /// Each kept asperity's equivalent summit radius (m), as in
+    /// [`TextureRoad::local_shapes`]: the rolling road measures the tread
+    /// gap at the cap's contact point with it
+    /// ([`crate::rolling::Road::with_summit_radii`]).
+    pub fn summit_radii(&self) -> Vec<f64> {
+        self.asperity_index
+            .iter()
+            .zip(self.set.laws())
+            .map(|(&k, law)| equivalent_radius(&self.segmentation.asperities()[k], law))
+            .collect()
+    }
+}
+
+/// The larger of the summit's curvature radius `√(r₁r₂)` and the secant
+/// radius `Σ(δ)/(2πδ)` of the cap at a quarter of its depth range: a
+/// flat-topped or blunt chipping has a sharp-looking summit fit but spreads
+/// its contact like a far larger sphere.
+fn equivalent_radius(a: &Asperity, law: &TextureLaw) -> f64 {
+    let d = 0.25 * law.geometry().max_depth();
+    let secant = law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d);
+    match a.fit {
+        Some(f) => (f.radii.0 * f.radii.1).sqrt().max(secant),
+        None => secant,
     }
 }
 

@@ -128,7 +128,63 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
         // between its knots: ±½ cell on ≥ 13 cells per radius is ±4 % of
         // the area (measured 3.2 % at 10 N).
         assert!(l.area_error.abs() < 0.05, "{l:?}");
+        // Forces as fields: the ball at (6, 6) mm straddles the 5 mm
+        // blocks' edges at x = y = 5 mm. At its summit its whole force lands
+        // in one block (measured 3.4 % of W on the wrong 5 mm block at
+        // 10 N, 21.5 % at 40 N); its two-scale pressure spreads over the
+        // four blocks as the BEM's does (0.50 % and 0.53 %: the local and
+        // the map grids' discretisations).
+        assert!(l.field_block[0] < 0.002 && l.field_block[1] < 0.01, "{l:?}");
+        assert!(l.field_block[1] < 0.5 * l.wrong_block[1], "{l:?}");
     }
+    let at_40 = c.rungs[1].loads[1].as_ref().map_err(|e| e.clone())?;
+    assert!(at_40.wrong_block[1] > 0.1, "{at_40:?}");
     assert!(c.rungs.iter().all(|r| r.unavailable.is_none()));
+    Ok(())
+}
+
+/// Segmentation invariance on a small self-affine texture (16 × 16 mm at
+/// 0.1 mm, H 0.7, Sq 0.3 mm) at 40 N: the calibrated rung with
+/// `min_prominence` 0.2 mm and 0.4 mm, which keep different asperities.
+/// (About 3 min in the dev profile on the loaded 2-core machine: the
+/// calibration solves of both segmentations.)
+#[test]
+fn a_coarser_segmentation_moves_the_outputs_little() -> TestResult {
+    use tyreroad::fidelity::Calibrator;
+    use tyreroad::fidelity::segmentation::segmentation_spread;
+    let text = "name = \"seg\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+         [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
+         [texture.synth]\nkind = \"self_affine\"\nnx = 160\nny = 160\nspacing = \"0.1 mm\"\n\
+         seed = 7\nrms = \"0.3 mm\"\nhurst = 0.7\nlambda_long = \"8 mm\"\nlambda_short = \"0.5 mm\"\n";
+    let s = Scenario::parse(text, "seg")?;
+    let map = s
+        .texture
+        .as_ref()
+        .ok_or("no texture")?
+        .height_map(std::path::Path::new("."))?;
+    let material = Material::new(6.54e6, 0.5)?;
+    let fine = TextureRoadOptions::new(0.2e-3, 2e-6);
+    let coarse = TextureRoadOptions::new(0.4e-3, 2e-6);
+    let rows = segmentation_spread(
+        &map,
+        material,
+        &[40.0],
+        [&fine, &coarse],
+        Fidelity::Calibrated,
+        &SolverOptions::default(),
+        &Calibrator::new(material, CalibrationOptions::default()),
+    )?;
+    let [r] = rows.as_slice() else {
+        return Err("one load, one row".into());
+    };
+    // The coarser segmentation merges asperities (10 kept, then 7): the
+    // test compares two different splittings of one surface. Measured
+    // (40 N): approach −0.44 %, area +0.60 %, load moved between 10 mm
+    // blocks 0.60 %, between 5 mm blocks 0.77 % (issue 15's 1 % target;
+    // the 40 × 40 mm roads of docs/validation.md move more).
+    assert!(r.asperities[0] > r.asperities[1], "{r:?}");
+    assert!(r.approach_change().abs() < 0.01, "{r:?}");
+    assert!(r.area_change().abs() < 0.01, "{r:?}");
+    assert!(r.block_moved.iter().all(|&m| m < 0.01), "{r:?}");
     Ok(())
 }

@@ -4,11 +4,12 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use crate::rolling::RollingConfig;
+use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
 use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult};
 use crate::shared::{Field, Par};
 use crate::texture::HeightMap;
+use crate::texture_road::texture_road;
 
 use super::{
     BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare, roll_bem,
@@ -29,6 +30,11 @@ pub struct BemRollingRun {
     pub bem_time: Duration,
     /// Texture cells `(nx, ny)` and spacing (m) of the road.
     pub road_grid: (usize, usize, f64),
+    /// The same multipoint run with the tread gaps measured at the summits
+    /// (the model before the contact-point gaps,
+    /// [`crate::rolling::Tread::contact_gap`]) and its comparison with the
+    /// same BEM run: what the contact-point gaps change.
+    pub summit_gaps: (RollingResult, RollingComparison),
 }
 
 /// The texture's height map in the road frame of a scenario's rolling run:
@@ -154,6 +160,15 @@ pub fn run_scenario_comparison(
         reference_force,
         segment,
     )?;
+    let summit_result = summit_gap_run(&scenario, &map, config, par)?;
+    let summit_comparison = compare(
+        &summit_result,
+        &multipoint.road_positions,
+        &config.sensors,
+        &bem,
+        reference_force,
+        segment,
+    )?;
     Ok(BemRollingRun {
         multipoint: *multipoint,
         bem,
@@ -161,5 +176,36 @@ pub fn run_scenario_comparison(
         multipoint_time,
         bem_time,
         road_grid: (map.nx(), map.ny(), map.dx()),
+        summit_gaps: (summit_result, summit_comparison),
     })
+}
+
+/// The scenario's multipoint run rebuilt with the tread gaps at the
+/// summits: the same texture road (segmentation, laws, frame) without its
+/// summit radii, rolled with the same configuration.
+fn summit_gap_run(
+    scenario: &Scenario,
+    map: &HeightMap,
+    config: &RollingConfig,
+    par: Par,
+) -> Result<RollingResult, BemRollingError> {
+    let texture = scenario.texture.as_ref().ok_or_else(|| {
+        BemRollingError::InvalidInput("the BEM rolling reference needs a [texture]".into())
+    })?;
+    let material = scenario.material()?;
+    let road = texture_road(map, material, &texture.road_options())
+        .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let set = road
+        .set
+        .translated([0.0, -y_mid])
+        .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
+    // The scenario run's chunking: each chunk cold-starts its first step.
+    let options = rolling::RunOptions {
+        chunks: scenario.rolling.as_ref().and_then(|r| r.chunks),
+        par,
+        ..rolling::RunOptions::default()
+    };
+    rolling::roll(&rolling::Road::new(set), material, config, &options)
+        .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))
 }

@@ -15,7 +15,9 @@
 //! - load on the wrong asperity, 10 mm block and 5 mm block:
 //!   `½ Σ |F_model − F_BEM| / W` over basins or square blocks from the map's
 //!   origin (BEM: pressure summed over the cells; model: each asperity's
-//!   force at its summit);
+//!   force at its summit, and, as fields, each asperity's two-scale
+//!   pressure, a BEM solve of its own cap under its force, summed over the
+//!   blocks: [`field_blocks`]);
 //! - cost: the model's solve time and the BEM's on the same grid.
 //!
 //! The law-only error: each asperity's BEM force is carried by the
@@ -31,7 +33,7 @@ use crate::contact_law::{ContactLaw, Material};
 use crate::multipoint::{Control, Problem, Solution, SolverOptions, solve};
 use crate::texture::{HeightMap, UNLABELLED};
 use crate::texture_road::{TextureRoad, TextureRoadOptions, texture_road};
-use crate::two_scale::{TwoScaleOptions, two_scale_solution};
+use crate::two_scale::{LocalShape, TwoScale, TwoScaleOptions, two_scale_solution};
 
 use super::{
     CacheCounts, CalibrationOptions, Calibrator, Fidelity, FidelityError, LawSource, calibrated_set,
@@ -91,8 +93,14 @@ pub struct RungLoad {
     pub area_error: f64,
     /// Load on the wrong asperity (fraction of W).
     pub wrong_asperity: f64,
-    /// Load on the wrong block, per size of [`BLOCKS`] (fraction of W).
+    /// Load on the wrong block, per size of [`BLOCKS`] (fraction of W),
+    /// each asperity's force at its summit.
     pub wrong_block: [f64; 2],
+    /// The same with the model's forces as fields: each asperity's
+    /// two-scale pressure (a BEM solve of its own cap under its force,
+    /// [`crate::two_scale`]) integrated over the blocks ([`field_blocks`]);
+    /// NaN when the rung was run without shapes.
+    pub field_block: [f64; 2],
     /// Model solve time (s).
     pub seconds: f64,
     /// The BEM's solve time at this load (s).
@@ -183,6 +191,35 @@ fn point_blocks(positions: &[[f64; 2]], forces: &[f64], map: &HeightMap, size: f
     out
 }
 
+/// Block forces (N) of a two-scale rebuild: every local pressure field
+/// integrated over square blocks of `size` from the map's origin. Each
+/// local cell (a fraction of the patch, finer than the map's) is counted
+/// whole in the block of the map cell holding its centre, so that fields
+/// and the BEM (whose map cells each fall in one block) split a patch at
+/// the same line. A patch reaching past the map's edge is counted in the
+/// edge block, as the point accounting does; the blocks sum to the forces
+/// carried.
+pub fn field_blocks(two: &TwoScale, map: &HeightMap, size: f64) -> Vec<f64> {
+    let (bx, by) = blocks_per_row(map, size);
+    let mut out = vec![0.0; bx * by];
+    let block = |v: f64, cell: f64, n: usize| {
+        let centre = (v / cell).round() * cell;
+        ((centre / size + 1e-9).floor().max(0.0) as usize).min(n - 1)
+    };
+    for field in two.local.iter().filter_map(|l| l.field.as_ref()) {
+        let g = field.grid();
+        let cell = g.cell_area();
+        for (k, &p) in field.values().iter().enumerate() {
+            if p > 0.0 {
+                let (i, j) = g.cell(k);
+                let (ix, iy) = (block(g.x(i), map.dx(), bx), block(g.y(j), map.dy(), by));
+                out[iy * bx + ix] += p * cell;
+            }
+        }
+    }
+    out
+}
+
 fn bem_reference(
     map: &HeightMap,
     road: &TextureRoad,
@@ -252,24 +289,40 @@ fn bem_reference(
 }
 
 /// Solves `problem` at every BEM load and measures it; `area` gives the
-/// model's total contact area of a solution.
+/// model's total contact area of a solution. With `shapes` (the
+/// asperities' real caps, [`TextureRoad::local_shapes`]) each solution is
+/// also rebuilt by [`two_scale_solution`], its block forces integrated from
+/// that pressure ([`field_blocks`]), and `area` sees the rebuild.
 fn run_rung<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     solver: &SolverOptions,
     bem: &[BemLoad],
     map: &HeightMap,
     summit_above_grid: f64,
-    area: impl Fn(&Solution) -> Result<f64, String>,
+    shapes: Option<&[LocalShape]>,
+    area: impl Fn(&Solution, Option<&TwoScale>) -> Result<f64, String>,
 ) -> Vec<Result<RungLoad, String>> {
     bem.iter()
         .map(|b| {
             let t = Instant::now();
             let s = solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?;
             let seconds = t.elapsed().as_secs_f64();
-            let a = area(&s)?;
+            let two = shapes
+                .map(|shapes| {
+                    two_scale_solution(problem, &s, shapes, &TwoScaleOptions::default())
+                        .map_err(|e| format!("two-scale rebuild: {e}"))
+                })
+                .transpose()?;
+            let a = area(&s, two.as_ref())?;
             let wrong_block = [0, 1].map(|k| {
                 let m = point_blocks(problem.positions(), &s.forces, map, BLOCKS[k]);
                 wrong_load(&m, &b.block_forces[k], b.load)
+            });
+            let field_block = [0, 1].map(|k| {
+                two.as_ref().map_or(f64::NAN, |two| {
+                    let m = field_blocks(two, map, BLOCKS[k]);
+                    wrong_load(&m, &b.block_forces[k], b.load)
+                })
             });
             let mut with_off = s.forces.clone();
             with_off.push(0.0);
@@ -281,6 +334,7 @@ fn run_rung<L: ContactLaw + Sync>(
                 area_error: (a - b.contact_area) / b.contact_area,
                 wrong_asperity: wrong_load(&with_off, &reference, b.load),
                 wrong_block,
+                field_block,
                 seconds,
                 bem_seconds: b.seconds,
             })
@@ -335,13 +389,19 @@ pub fn compare_texture(
         };
         let (setup_seconds, results) = match rung.laws {
             LawSource::Potential => {
-                let two = TwoScaleOptions::default();
-                let area = |s: &Solution| {
-                    two_scale_solution(&wilke, s, &shapes, &two)
-                        .map(|t| t.local.iter().map(|f| f.contact_area).sum())
-                        .map_err(|e| e.to_string())
+                let area = |_: &Solution, two: Option<&TwoScale>| {
+                    two.map(|t| t.local.iter().map(|f| f.contact_area).sum())
+                        .ok_or_else(|| "no two-scale rebuild".to_string())
                 };
-                let r = run_rung(&wilke, &rung.solver, &bem, map, summit_above_grid, area);
+                let r = run_rung(
+                    &wilke,
+                    &rung.solver,
+                    &bem,
+                    map,
+                    summit_above_grid,
+                    Some(&shapes),
+                    area,
+                );
                 (0.0, r)
             }
             LawSource::Calibrated => {
@@ -349,9 +409,18 @@ pub fn compare_texture(
                 let set = calibrated_set(&road, map, max_approach, &calibrator)?;
                 let problem = Problem::from_set(set, material)?;
                 let setup = t.elapsed().as_secs_f64();
-                let area =
-                    |s: &Solution| Ok(s.local_contacts(&problem).iter().map(|c| c.area()).sum());
-                let r = run_rung(&problem, &rung.solver, &bem, map, summit_above_grid, area);
+                let area = |s: &Solution, _: Option<&TwoScale>| {
+                    Ok(s.local_contacts(&problem).iter().map(|c| c.area()).sum())
+                };
+                let r = run_rung(
+                    &problem,
+                    &rung.solver,
+                    &bem,
+                    map,
+                    summit_above_grid,
+                    Some(&shapes),
+                    area,
+                );
                 calibrated = Some((problem, setup));
                 (setup, r)
             }

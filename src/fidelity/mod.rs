@@ -24,6 +24,7 @@
 
 mod calibrate;
 pub mod compare;
+pub mod segmentation;
 mod texture;
 
 use std::fmt;

@@ -141,10 +141,12 @@ pub(crate) fn rolling_on_road(
 ) -> Result<Rolled, ScenarioError> {
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
-        let (set, summary) = texture_road_set(texture, &options.base_dir, material)?;
-        return run_on(
+        let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
+        // Gaps at each cap's contact point, not its summit.
+        let road = rolling::Road::new(set).with_summit_radii(radii)?;
+        return roll_road(
             scenario,
-            set,
+            &road,
             RoadSummary::Texture(summary),
             material,
             spec,

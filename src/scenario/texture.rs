@@ -190,15 +190,17 @@ fn scenario_road(
 /// The road of a `[texture]` rolling scenario: the texture's asperities with
 /// x along the map's x from its first column and y centred on the map's
 /// mid-width, so a path at `lateral = 0` runs down the middle of the
-/// texture.
+/// texture; and each asperity's summit radius (m, set order), for the
+/// contact-point gaps ([`tyreroad_rolling::Road::with_summit_radii`]).
 pub(crate) fn texture_road_set(
     texture: &TextureSpec,
     base_dir: &Path,
     material: Material,
-) -> Result<(AsperitySet<TextureLaw>, TextureSummary), ScenarioError> {
+) -> Result<(AsperitySet<TextureLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
+    let radii = road.summit_radii();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let set = road
         .set
@@ -207,5 +209,5 @@ pub(crate) fn texture_road_set(
             context: "[texture] road".into(),
             source,
         })?;
-    Ok((set, summary))
+    Ok((set, summary, radii))
 }

@@ -128,20 +128,29 @@ fn print_report(name: &str, run: &BemRollingRun) {
     for s in &c.sensors_summit {
         row(&format!("{} (summits)", s.name), s);
     }
-    println!("band levels (dB), model fields / model summits / BEM:");
+    // The model before the contact-point gaps, against the same BEM run.
+    let g = &run.summit_gaps.1;
+    row("approach (summit gaps)", &g.approach);
+    for s in &g.sensors {
+        row(&format!("{} (summit gaps)", s.name), s);
+    }
+    println!("band levels (dB), model fields / model summits / model summit gaps / BEM:");
     for (k, s) in c.sensors.iter().enumerate() {
         let summit = &c.sensors_summit[k];
+        let gaps = &g.sensors[k];
         let cells: Vec<String> = s
             .bands
             .iter()
             .zip(&summit.bands)
-            .map(|(b, p)| {
+            .zip(&gaps.bands)
+            .map(|((b, p), q)| {
                 format!(
-                    "{}{:.0}: {:.1}/{:.1}/{:.1}",
+                    "{}{:.0}: {:.1}/{:.1}/{:.1}/{:.1}",
                     if b.resolved { "" } else { "*" },
                     b.nominal,
                     b.model_db,
                     p.model_db,
+                    q.model_db,
                     b.reference_db
                 )
             })
@@ -181,6 +190,8 @@ struct SensorRow<'a> {
     model_fields_n: f64,
     #[serde(serialize_with = "fmt::sci9")]
     model_summits_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_summit_gaps_n: f64,
     #[serde(serialize_with = "fmt::sci9")]
     bem_n: f64,
 }
@@ -223,6 +234,7 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     let summit =
         tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);
     let mut rows = Vec::new();
+    let gap_steps = &run.summit_gaps.0.steps;
     for (k, s) in sensors.iter().enumerate() {
         for (i, (m, b)) in mp.steps.iter().zip(&run.bem.steps).enumerate() {
             rows.push(SensorRow {
@@ -230,6 +242,7 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
                 sensor: &s.name,
                 model_fields_n: m.sensor_forces[k],
                 model_summits_n: summit[k][i],
+                model_summit_gaps_n: gap_steps.get(i).map_or(f64::NAN, |g| g.sensor_forces[k]),
                 bem_n: b.sensor_forces[k],
             });
         }
@@ -247,6 +260,13 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
         c.sensors_summit
             .iter()
             .map(|s| (s.name.as_str(), "summits", s)),
+    )
+    .chain(
+        run.summit_gaps
+            .1
+            .sensors
+            .iter()
+            .map(|s| (s.name.as_str(), "summit gaps", s)),
     );
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {
@@ -283,6 +303,10 @@ fn charts(run: &BemRollingRun, summit: &[Vec<f64>], set: &mut OutputSet) -> Resu
         signals.push(Series {
             label: format!("{} multipoint (summits)", s.name),
             points: pts(&mut summit[k].iter().copied()),
+        });
+        signals.push(Series {
+            label: format!("{} multipoint (summit gaps)", s.name),
+            points: pts(&mut run.summit_gaps.0.steps.iter().map(|st| st.sensor_forces[k])),
         });
         signals.push(Series {
             label: format!("{} BEM", s.name),

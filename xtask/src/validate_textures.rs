@@ -15,6 +15,7 @@ use anyhow::{Context, Result, bail};
 use tyreroad::fidelity::compare::{
     BLOCKS, CompareOptions, RungLoad, TextureComparison, bem_resolution, compare_texture,
 };
+use tyreroad::fidelity::segmentation::segmentation_spread;
 use tyreroad::fidelity::{CalibrationOptions, RUNGS};
 use tyreroad::multipoint::SolverOptions;
 use tyreroad::scenario::Scenario;
@@ -90,6 +91,11 @@ pub struct TextureArgs {
     /// With `--textures`: skip the BEM resolution study.
     #[arg(long)]
     pub no_resolution: bool,
+    /// With `--textures`: also segment each road a second way
+    /// (`min_prominence` doubled) and measure how far the calibrated rung's
+    /// outputs move (docs/validation.md, "Segmentation invariance").
+    #[arg(long)]
+    pub segmentation: bool,
 }
 
 /// Runs the texture validation; fails only if a case cannot be run at all
@@ -117,6 +123,10 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     };
     let mut results = Vec::new();
     let mut report = String::new();
+    let mut segmentation = String::new();
+    if args.segmentation {
+        println!("\n{SEGMENTATION_HEADER}");
+    }
     for (label, body) in kinds {
         let s = scenario(label, body, cells, spacing_mm)?;
         let map = s
@@ -156,15 +166,69 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         // Each road's rows as soon as they exist: a long run that is cut
         // short still leaves its finished roads on the terminal.
         print!("{}", tables(&[(label, c.clone())], cells, spacing_mm)?);
+        if args.segmentation {
+            let rows = segmentation_rows(label, &map, material, &options)?;
+            print!("{rows}");
+            segmentation.push_str(&rows);
+        }
         results.push((*label, c));
     }
     report.push_str(&tables(&results, cells, spacing_mm)?);
+    if args.segmentation {
+        writeln!(report, "\n{SEGMENTATION_HEADER}")?;
+        report.push_str(&segmentation);
+    }
     println!("\n== all roads ==");
     print!("{report}");
     let mut set = OutputSet::new(out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);
     Ok(())
+}
+
+const SEGMENTATION_HEADER: &str = "Segmentation invariance (rung `calibrated`, forces as fields; \
+     segmentation b = min_prominence doubled):\n\n\
+     | road | W (N) | asperities a / b | approach b vs a | area b vs a | moved 10 mm block | moved 5 mm block |\n\
+     |---|---|---|---|---|---|---|";
+
+/// The rows of one road: the calibrated rung under the harness's
+/// segmentation and under `min_prominence` doubled.
+fn segmentation_rows(
+    label: &str,
+    map: &tyreroad::texture::HeightMap,
+    material: tyreroad::contact_law::Material,
+    options: &CompareOptions,
+) -> Result<String> {
+    let doubled = tyreroad::texture_road::TextureRoadOptions {
+        min_prominence: 2.0 * options.road.min_prominence,
+        ..options.road
+    };
+    let calibrator = tyreroad::fidelity::Calibrator::new(material, options.calibration);
+    let rows = segmentation_spread(
+        map,
+        material,
+        &options.loads,
+        [&options.road, &doubled],
+        tyreroad::fidelity::Fidelity::Calibrated,
+        &options.solver,
+        &calibrator,
+    )
+    .with_context(|| format!("segmentation of `{label}`"))?;
+    let mut out = String::new();
+    for r in rows {
+        writeln!(
+            out,
+            "| {label} | {:.0} | {} / {} | {} | {} | {:.1} % | {:.1} % |",
+            r.load,
+            r.asperities[0],
+            r.asperities[1],
+            pct(r.approach_change()),
+            pct(r.area_change()),
+            100.0 * r.block_moved[0],
+            100.0 * r.block_moved[1]
+        )?;
+    }
+    Ok(out)
 }
 
 fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) -> Result<String> {
@@ -182,11 +246,14 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
         )?;
         writeln!(
             out,
-            "| road | N | W (N) | approach | area | wrong asperity | wrong {:.0} mm block | wrong {:.0} mm block | model s | BEM s | BEM/model | set-up s |",
-            BLOCKS[0] * 1e3,
-            BLOCKS[1] * 1e3
+            "| road | N | W (N) | approach | area | wrong asperity | wrong {a:.0} mm block | wrong {b:.0} mm block | wrong {a:.0} mm block (fields) | wrong {b:.0} mm block (fields) | model s | BEM s | BEM/model | set-up s |",
+            a = BLOCKS[0] * 1e3,
+            b = BLOCKS[1] * 1e3
         )?;
-        writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+        writeln!(
+            out,
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        )?;
         for (label, c) in results {
             let Some(res) = c.rungs.get(r) else { continue };
             if let Some(why) = &res.unavailable {
@@ -201,17 +268,20 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
                         area_error,
                         wrong_asperity,
                         wrong_block,
+                        field_block,
                         seconds,
                         bem_seconds,
                     }) => writeln!(
                         out,
-                        "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
+                        "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
                         c.asperities,
                         pct(*approach_error),
                         pct(*area_error),
                         100.0 * wrong_asperity,
                         100.0 * wrong_block[0],
                         100.0 * wrong_block[1],
+                        100.0 * field_block[0],
+                        100.0 * field_block[1],
                         bem_seconds / seconds.max(1e-9),
                         res.setup_seconds,
                     )?,

@@ -155,6 +155,17 @@ impl RoadDigest {
         }
     }
 
+    /// Each asperity's summit curvature radius (m, by id), after every
+    /// asperity was pushed, when the road has them (contact-point gaps): a
+    /// road without them hashes as before.
+    pub fn summit_radii(&mut self, radii: &[f64]) {
+        let h = &mut self.0;
+        h.u(3);
+        for &r in radii {
+            h.f(r);
+        }
+    }
+
     /// The digest, after every asperity was pushed.
     pub fn finish(&self) -> u64 {
         self.0.0

@@ -140,7 +140,7 @@ pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
     third_octave, welch,
 };
-pub use step::{StepProblem, step_problem};
+pub use step::{StepProblem, contact_point, step_problem};
 pub use synth::SyntheticRoad;
 pub use synth_window::SyntheticWindows;
 pub use tread::Tread;

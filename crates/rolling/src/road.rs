@@ -46,6 +46,9 @@ pub struct Road<L> {
     global_len: usize,
     /// The whole road's part of the checkpoint key ([`RoadDigest`]).
     digest: OnceLock<u64>,
+    /// Summit curvature radius per id (m), if known: the tread gap is then
+    /// measured at the contact point ([`crate::Tread::contact_gap`]).
+    summit_radii: Option<Vec<f64>>,
 }
 
 impl<L> Road<L> {
@@ -66,6 +69,7 @@ impl<L> Road<L> {
             global_ids: None,
             global_len,
             digest: OnceLock::new(),
+            summit_radii: None,
         }
     }
 
@@ -134,6 +138,53 @@ impl<L> Road<L> {
     /// Whether this is a window of a larger road.
     pub fn is_window(&self) -> bool {
         self.global_ids.is_some()
+    }
+
+    /// The same road with each asperity's summit curvature radius (m, by
+    /// id), so that each step's gap is measured at the point of the cap
+    /// closest to the tread, not at the summit ([`crate::Tread::contact_gap`];
+    /// without radii the gaps are the summits').
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] if the count differs from the road's,
+    /// a radius is not finite and positive, or the road is a window (its
+    /// digest is the whole road's, given when it was cut, so the radii
+    /// must be known then).
+    pub fn with_summit_radii(mut self, radii: Vec<f64>) -> Result<Self, RollingError> {
+        if self.is_window() {
+            return Err(RollingError::InvalidInput(
+                "summit radii on a road window: give them to the whole road".into(),
+            ));
+        }
+        if radii.len() != self.set.len() {
+            return Err(RollingError::InvalidInput(format!(
+                "summit radii: {} given for {} asperities",
+                radii.len(),
+                self.set.len()
+            )));
+        }
+        if let Some((i, r)) = radii
+            .iter()
+            .enumerate()
+            .find(|(_, r)| !(r.is_finite() && **r > 0.0))
+        {
+            return Err(RollingError::InvalidInput(format!(
+                "summit radius of asperity {i}: expected finite and > 0 m, got {r}"
+            )));
+        }
+        self.summit_radii = Some(radii);
+        // The radii change the gaps, so they are part of the checkpoint key.
+        self.digest = OnceLock::new();
+        Ok(self)
+    }
+
+    /// The summit curvature radius of asperity `id` (m), infinite if the
+    /// road has none.
+    pub fn summit_radius(&self, id: usize) -> f64 {
+        self.summit_radii
+            .as_ref()
+            .and_then(|r| r.get(id).copied())
+            .unwrap_or(f64::INFINITY)
     }
 
     /// The road's asperities.
@@ -205,6 +256,9 @@ impl<L: ContactLaw> Road<L> {
             let mut d = RoadDigest::new(self.set.len());
             for ((p, z), law) in self.positions().iter().zip(self.heights()).zip(self.laws()) {
                 d.push(*p, *z, law);
+            }
+            if let Some(radii) = &self.summit_radii {
+                d.summit_radii(radii);
             }
             d.finish()
         })

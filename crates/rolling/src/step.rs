@@ -14,8 +14,8 @@ use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, StepS
 pub type StepProblem<'r, L> = (Vec<usize>, Problem<&'r L>);
 
 /// The sub-problem of one footprint position: the selected asperity ids and
-/// the multipoint problem on them (gaps `H_i = z_max − z_i + s(x_i − x_c,
-/// y_i − y_c)`). `None` when nothing lies under the footprint.
+/// the multipoint problem on them (gaps `H_i = z_max − z_i + s*`, the tread profile at the cap's contact
+/// point, [`crate::Tread::contact_gap`]). `None` when nothing lies under the footprint.
 pub fn step_problem<'r, L: ContactLaw>(
     road: &'r Road<L>,
     material: Material,
@@ -57,14 +57,16 @@ pub(crate) fn build<'r, L: ContactLaw>(
     let (pos, z, laws, top) = (road.positions(), road.heights(), road.laws(), road.top());
     let yc = config.lateral;
     let positions = ids.iter().map(|&i| pos[i]).collect();
+    // The gap at each cap's contact point (the summit's when the road has
+    // no summit radii): under a sloping tread it lies off the summit.
     let gaps = ids
         .iter()
         .map(|&i| {
             top - z[i]
                 + config
                     .tread
-                    .profile(pos[i][0] - xc, pos[i][1] - yc)
-                    .unwrap_or(f64::INFINITY)
+                    .contact_gap(pos[i][0] - xc, pos[i][1] - yc, road.summit_radius(i))
+                    .map_or(f64::INFINITY, |(s, _)| s)
         })
         .collect();
     let laws = ids.iter().map(|&i| &laws[i]).collect();
@@ -72,6 +74,18 @@ pub(crate) fn build<'r, L: ContactLaw>(
         position: xc,
         source,
     })
+}
+
+/// Where asperity `id`'s contact patch is centred under the footprint at
+/// `xc`: its summit shifted towards the tread's lowest point
+/// ([`crate::Tread::contact_gap`]); the summit without radii.
+pub fn contact_point<L>(road: &Road<L>, config: &RollingConfig, xc: f64, id: usize) -> [f64; 2] {
+    let p = road.positions()[id];
+    let (xi, eta) = (p[0] - xc, p[1] - config.lateral);
+    match config.tread.contact_gap(xi, eta, road.summit_radius(id)) {
+        Some((_, [dx, dy])) => [p[0] + dx, p[1] + dy],
+        None => p,
+    }
 }
 
 pub(crate) fn imposed<L>(road: &Road<L>, control: RollingControl) -> Control {
@@ -209,7 +223,6 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         Convergence::Stagnated { .. } => StepStatus::Stagnated,
     };
     let contacts = solution.local_contacts(&problem);
-    let pos = road.positions();
     let mut sensor_forces = vec![0.0; config.sensors.len()];
     let mut area = 0.0;
     let in_contact = solution.contact_count();
@@ -220,8 +233,10 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             contact_ids.push(road.global_id(i));
             contact_forces.push(p);
             area += contacts[a].area();
+            // The patch is centred on the contact point, not the summit.
+            let centre = contact_point(road, config, xc, i);
             for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
-                *f += s.share(pos[i], &contacts[a]);
+                *f += s.share(centre, &contacts[a]);
             }
         }
     }

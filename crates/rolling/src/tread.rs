@@ -97,6 +97,33 @@ impl Tread {
         }
     }
 
+    /// The gap between the tread and a paraboloid summit of radius `radius`
+    /// at offset `(ξ, η)`, measured at the contact point rather than at the
+    /// summit, with that point's offset from the summit: `(s*, [dξ, dη])`,
+    /// or `None` where there is no tread.
+    ///
+    /// Under a tyre the first point of contact of a summit
+    /// `z = −(dξ² + dη²)/(2R)` is where tread minus surface is smallest:
+    /// minimising `dξ²/(2R) + (ξ + dξ)²/(2Rx)` (and the same across) gives
+    /// `dξ = −ξ R/(R + Rx)` and `s* = ξ²/(2(Rx + R)) + η²/(2(Ry + R))`,
+    /// below the summit's `s(ξ, η)` by `½ σ² R Rx/(R + Rx)` for a slope
+    /// `σ = ξ/Rx` (docs/validation.md, "Rolling against the BEM"). An
+    /// infinite or non-positive `radius` (unknown) gives the summit's
+    /// profile and no offset; a flat block has no slope and no offset.
+    pub fn contact_gap(&self, xi: f64, eta: f64, radius: f64) -> Option<(f64, [f64; 2])> {
+        match *self {
+            Tread::Tyre {
+                radius_x, radius_y, ..
+            } if radius.is_finite() && radius > 0.0 => {
+                let (cx, cy) = (radius / (radius + radius_x), radius / (radius + radius_y));
+                let s =
+                    xi * xi / (2.0 * (radius_x + radius)) + eta * eta / (2.0 * (radius_y + radius));
+                Some((s, [-xi * cx, -eta * cy]))
+            }
+            _ => self.profile(xi, eta).map(|s| (s, [0.0, 0.0])),
+        }
+    }
+
     /// The smallest profile height on the boundary of the selection window
     /// (footprint grown by `margin`): every asperity outside the window has
     /// a gap at least this large (the gaps are measured from the road's
