@@ -281,7 +281,7 @@ fn roll_road<L: ContactLaw + Sync>(
     })))
 }
 
-fn spectra(
+pub(super) fn spectra(
     config: &rolling::RollingConfig,
     spec: &RollingSpec,
     result: &rolling::RollingResult,

@@ -12,6 +12,9 @@
 //!   texture against the full-BEM rolling reference.
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
+//! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
+//!   viscoelastic rolling runs against speed and temperature, a table and
+//!   charts of the overall and band levels.
 
 mod bem_validation;
 mod charts;
@@ -27,6 +30,7 @@ mod texture_synth;
 mod torture;
 mod validate;
 mod validate_textures;
+mod visco_sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -81,6 +85,9 @@ enum Command {
     /// Roll a scenario over MPI ranks (start with mpirun); rank 0 writes.
     #[cfg(feature = "mpi")]
     MpiRun(sweep_cmd::MpiRunArgs),
+    /// Viscoelastic rolling runs of a scenario against speed and
+    /// temperature: a table and charts of the overall and band levels.
+    ViscoSweep(Box<visco_sweep::ViscoSweepArgs>),
 }
 
 fn main() -> Result<()> {
@@ -91,6 +98,7 @@ fn main() -> Result<()> {
         Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
         Command::Sweep(args) => sweep_cmd::run(&args),
+        Command::ViscoSweep(args) => visco_sweep::run(&args),
         #[cfg(feature = "mpi")]
         Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {
