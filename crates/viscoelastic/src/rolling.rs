@@ -304,7 +304,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         else {
             let approach = match control {
                 Control::Approach(d) => d,
-                Control::Load(w) if w == 0.0 => f64::NEG_INFINITY,
+                Control::Load(0.0) => f64::NEG_INFINITY,
                 Control::Load(_) => {
                     return Err(ViscoError::Rolling {
                         source: RollingError::NoSupport { position: xc },
@@ -473,14 +473,13 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
     /// Sets `w_i` and advances its branches (`q = 0` at the relaxed start).
     fn advance(&mut self, i: usize, w: f64, coefficients: &[(f64, f64)], relaxed: bool) {
         let old = self.unit[i];
-        for b in 0..self.branches {
-            let q = &mut self.branch[i * self.branches + b];
-            *q = if relaxed {
-                0.0
-            } else {
-                let (decay, weight) = coefficients[b];
-                decay * *q + weight * (w - old)
-            };
+        let branches = &mut self.branch[i * self.branches..(i + 1) * self.branches];
+        if relaxed {
+            branches.fill(0.0);
+        } else {
+            for (q, (decay, weight)) in branches.iter_mut().zip(coefficients) {
+                *q = decay * *q + weight * (w - old);
+            }
         }
         self.unit[i] = w;
     }

@@ -53,6 +53,7 @@ impl<L: ContactLaw> ContactLaw for MemoryLaw<'_, L> {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::MemoryLaw;
     use tyreroad_asperity::Sphere;
