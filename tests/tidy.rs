@@ -64,7 +64,8 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
         ),
         ("tyreroad-bem", &["tyreroad-core"]),
         // The hereditary solve steps the elastic multipoint solver; its
-        // reference steps the elastic BEM.
+        // reference steps the elastic BEM; viscoelastic rolling steps the
+        // rolling crate's road, footprint selection and records.
         (
             "tyreroad-viscoelastic",
             &[
@@ -73,6 +74,7 @@ fn allowed_edges() -> BTreeMap<&'static str, BTreeSet<&'static str>> {
                 "tyreroad-contact-law",
                 "tyreroad-multipoint",
                 "tyreroad-bem",
+                "tyreroad-rolling",
             ],
         ),
         ("tyreroad-film", &["tyreroad-core"]),

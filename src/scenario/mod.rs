@@ -29,6 +29,7 @@ mod spec;
 mod statics;
 mod texture;
 pub mod units;
+mod visco;
 
 use std::path::PathBuf;
 
@@ -54,6 +55,9 @@ pub use statics::{
 pub use texture::{TextureLoad, TextureResult, TextureSummary};
 pub use tyreroad_multipoint::Par;
 pub use tyreroad_rolling::{Progress, ProgressFn};
+pub use visco::{
+    BranchSpec, RelaxationTime, RelaxationTimeDim, ShiftSpec, Temperature, ViscoCase, ViscoSpec,
+};
 
 /// How to run a scenario (nothing here changes the results).
 #[derive(Clone, Default)]
@@ -164,6 +168,13 @@ impl Scenario {
         warmup: usize,
     ) -> Result<tyreroad_rolling::RollingResult, ScenarioError> {
         let spec = self.rolling_section()?;
+        if self.material.viscoelastic.is_some() {
+            return Err(ScenarioError::Invalid(
+                "a viscoelastic rolling run carries each asperity's memory along the whole path: \
+                 it is not split into parts"
+                    .into(),
+            ));
+        }
         match rolling::rolling_on_road(self, spec, options, rolling::What::Part { steps, warmup })?
         {
             rolling::Rolled::Part(part) => Ok(part),
@@ -210,6 +221,13 @@ impl Scenario {
     }
 
     fn run_whole(&self, options: &RunOptions<'_>) -> Result<ScenarioResult, ScenarioError> {
+        if self.rolling.is_some() && self.material.viscoelastic.is_some() {
+            let mut runs = self.roll_viscoelastic(options, &[visco::ViscoCase::default()])?;
+            return match runs.pop() {
+                Some(run) => run.map(|r| ScenarioResult::Rolling(Box::new(r))),
+                None => Err(ScenarioError::Invalid("no viscoelastic run".into())),
+            };
+        }
         if let Some(spec) = &self.rolling {
             return rolling::run_rolling(self, spec, options)
                 .map(|r| ScenarioResult::Rolling(Box::new(r)));

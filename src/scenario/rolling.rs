@@ -394,7 +394,7 @@ fn finish(
     })))
 }
 
-fn spectra(
+pub(super) fn spectra(
     config: &rolling::RollingConfig,
     spec: &RollingSpec,
     result: &rolling::RollingResult,

@@ -304,6 +304,11 @@ pub struct MaterialSpec {
     pub youngs_modulus: Pressure,
     /// ν.
     pub poisson_ratio: f64,
+    /// A viscoelastic tread (`[material.viscoelastic]`, docs/viscoelastic.md):
+    /// rolling runs then step it in time; `youngs_modulus` stays the laws'
+    /// reference modulus.
+    #[serde(default)]
+    pub viscoelastic: Option<super::visco::ViscoSpec>,
 }
 
 /// `[solver]`

@@ -15,6 +15,9 @@
 //!   scenario's `[static.history]` with a viscoelastic tread;
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
+//! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
+//!   viscoelastic rolling runs against speed and temperature, a table and
+//!   charts of the overall and band levels.
 
 mod bem_validation;
 mod charts;
@@ -33,6 +36,7 @@ mod texture_synth;
 mod torture;
 mod validate;
 mod validate_textures;
+mod visco_sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -91,6 +95,9 @@ enum Command {
     MpiRun(sweep_cmd::MpiRunArgs),
     /// Run a static scenario's `[static.history]` with a viscoelastic tread.
     History(history_cmd::HistoryArgs),
+    /// Viscoelastic rolling runs of a scenario against speed and
+    /// temperature: a table and charts of the overall and band levels.
+    ViscoSweep(Box<visco_sweep::ViscoSweepArgs>),
 }
 
 fn main() -> Result<()> {
@@ -102,6 +109,7 @@ fn main() -> Result<()> {
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
         Command::Sweep(args) => sweep_cmd::run(&args),
         Command::History(args) => history_cmd::run(&args),
+        Command::ViscoSweep(args) => visco_sweep::run(&args),
         #[cfg(feature = "mpi")]
         Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {

@@ -85,6 +85,13 @@ pub enum ViscoError {
         /// The multipoint solver's error.
         source: tyreroad_multipoint::SolveError,
     },
+    /// A viscoelastic rolling run's configuration, road or progress callback
+    /// stopped it (the rolling crate's error).
+    #[error("viscoelastic rolling: {source}")]
+    Rolling {
+        /// The rolling crate's error.
+        source: tyreroad_rolling::RollingError,
+    },
 }
 
 pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, ViscoError> {

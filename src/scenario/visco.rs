@@ -1,0 +1,499 @@
+//! A viscoelastic tread in a scenario (`[material.viscoelastic]`,
+//! docs/viscoelastic.md): its Prony series, given directly or fitted to a
+//! master-curve file, at a temperature through a WLF or Arrhenius shift; and
+//! viscoelastic rolling runs of the `[rolling]` section, one or a sweep of
+//! speeds and temperatures on one road.
+
+use std::fmt;
+use std::path::Path;
+
+use serde::Deserialize;
+use tyreroad_contact_law::{ContactLaw, Material};
+use tyreroad_rolling as rolling;
+use tyreroad_viscoelastic::{
+    Branch, MasterCurve, Prony, TemperatureShift, ViscoError, ViscoRollOptions, ViscoStart,
+    fit_prony, roll_viscoelastic,
+};
+
+use super::rolling::{RoadSummary, RollingRun, spectra};
+use super::texture::texture_road_set;
+use super::units::{Dimension, Pressure, Quantity};
+use super::{RunOptions, Scenario, ScenarioError};
+
+/// The time dimension of relaxation times.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelaxationTimeDim;
+impl Dimension for RelaxationTimeDim {
+    const NAME: &'static str = "time";
+    const UNITS: &'static [(&'static str, f64)] = &[
+        ("s", 1.0),
+        ("ms", 1e-3),
+        ("us", 1e-6),
+        ("µs", 1e-6),
+        ("μs", 1e-6),
+        ("ns", 1e-9),
+        ("min", 60.0),
+        ("h", 3600.0),
+    ];
+}
+/// A relaxation time (s).
+pub type RelaxationTime = Quantity<RelaxationTimeDim>;
+
+/// A temperature, held in kelvin: "20 °C", "20 degC", "293.15 K" or a bare
+/// number (K).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Temperature(pub f64);
+
+impl Temperature {
+    /// Parses "20 °C", "20 C", "20 degC", "293.15 K" or "293.15".
+    ///
+    /// # Errors
+    /// A message naming the text and the accepted units.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim();
+        let (number, offset) = [("°C", 273.15), ("degC", 273.15), ("C", 273.15), ("K", 0.0)]
+            .iter()
+            .find_map(|&(unit, offset)| t.strip_suffix(unit).map(|n| (n.trim(), offset)))
+            .unwrap_or((t, 0.0));
+        let value: f64 = number.parse().map_err(|_| {
+            format!(
+                "`{text}` is not a temperature (expected \"20 °C\", \"20 degC\" or \"293.15 K\")"
+            )
+        })?;
+        let kelvin = value + offset;
+        if kelvin.is_finite() && kelvin > 0.0 {
+            Ok(Self(kelvin))
+        } else {
+            Err(format!("`{text}` is not above absolute zero"))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Temperature {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Temperature;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "a temperature (\"20 °C\", \"293.15 K\" or kelvin)")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Temperature, E> {
+                Temperature::parse(&v.to_string()).map_err(E::custom)
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Temperature, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Temperature, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Temperature, E> {
+                Temperature::parse(v).map_err(E::custom)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// `[material.viscoelastic]`: the tread's Prony series (docs/viscoelastic.md).
+/// Either `long_term` with `[[material.viscoelastic.branch]]` entries, or a
+/// `master_curve` CSV (frequency Hz, E' Pa, E'' Pa) to fit. The laws of the
+/// road are built with `[material]`'s elastic modulus, which the
+/// viscoelastic runs divide out; its Poisson's ratio is the tread's.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViscoSpec {
+    /// `E∞`, e.g. "2 MPa" (with `branch`).
+    pub long_term: Option<Pressure>,
+    /// The Maxwell branches (with `long_term`).
+    #[serde(rename = "branch", default)]
+    pub branches: Vec<BranchSpec>,
+    /// A master-curve CSV, relative to the scenario's directory, fitted
+    /// with `per_decade` relaxation times per decade (default 3).
+    pub master_curve: Option<String>,
+    /// Relaxation times per decade of the fit.
+    pub per_decade: Option<usize>,
+    /// The temperature shift of the series (measured at its reference).
+    pub shift: Option<ShiftSpec>,
+    /// The tread's temperature (default: the shift's reference).
+    pub temperature: Option<Temperature>,
+    /// `"fresh"` (default: the tread meets the road at the first step) or
+    /// `"relaxed"` (it stood there long).
+    pub start: Option<String>,
+}
+
+/// `[[material.viscoelastic.branch]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BranchSpec {
+    /// `E_k`, e.g. "3 MPa".
+    pub modulus: Pressure,
+    /// `τ_k`, e.g. "1 ms".
+    pub relaxation_time: RelaxationTime,
+}
+
+/// `[material.viscoelastic.shift]`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShiftSpec {
+    /// WLF: `log10 a_T = −C1 (T − T_ref)/(C2 + T − T_ref)`.
+    Wlf {
+        /// `C1`.
+        c1: f64,
+        /// `C2` (K).
+        c2: f64,
+        /// `T_ref`.
+        reference: Temperature,
+    },
+    /// Arrhenius: `ln a_T = E_a/R (1/T − 1/T_ref)`.
+    Arrhenius {
+        /// `E_a` (J/mol).
+        activation_energy: f64,
+        /// `T_ref`.
+        reference: Temperature,
+    },
+}
+
+fn visco_error(key: &str) -> impl Fn(ViscoError) -> ScenarioError + '_ {
+    move |e| ScenarioError::Invalid(format!("[material.viscoelastic] {key}: {e}"))
+}
+
+impl ViscoSpec {
+    /// The Prony series at the reference temperature.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] naming the key: both or neither of the
+    /// series and `master_curve`, a value out of range, an unreadable or
+    /// malformed curve, a fit that fails.
+    pub fn series(&self, poisson_ratio: f64, base_dir: &Path) -> Result<Prony, ScenarioError> {
+        match (&self.master_curve, self.long_term) {
+            (Some(file), None) if self.branches.is_empty() => {
+                let path = base_dir.join(file);
+                let text = std::fs::read_to_string(&path)
+                    .map_err(ScenarioError::io("reading the master curve", &path))?;
+                let curve = MasterCurve::parse_csv(&text).map_err(visco_error("master_curve"))?;
+                fit_prony(&curve, self.per_decade.unwrap_or(3), poisson_ratio)
+                    .map_err(visco_error("master_curve"))
+            }
+            (None, Some(long_term)) => {
+                let branches = self
+                    .branches
+                    .iter()
+                    .map(|b| Branch {
+                        modulus: b.modulus.value(),
+                        relaxation_time: b.relaxation_time.value(),
+                    })
+                    .collect();
+                Prony::new(long_term.value(), branches, poisson_ratio)
+                    .map_err(visco_error("long_term, branch"))
+            }
+            _ => Err(ScenarioError::Invalid(
+                "[material.viscoelastic]: give either long_term with [[material.viscoelastic.branch]] \
+                 entries, or master_curve"
+                    .into(),
+            )),
+        }
+    }
+
+    /// The time–temperature shift, if any.
+    pub fn shift(&self) -> Option<TemperatureShift> {
+        self.shift.as_ref().map(|s| match *s {
+            ShiftSpec::Wlf { c1, c2, reference } => TemperatureShift::Wlf {
+                c1,
+                c2,
+                reference: reference.0,
+            },
+            ShiftSpec::Arrhenius {
+                activation_energy,
+                reference,
+            } => TemperatureShift::Arrhenius {
+                activation_energy,
+                reference: reference.0,
+            },
+        })
+    }
+
+    /// The series at `temperature` (K; `None`: the spec's own temperature,
+    /// else the reference).
+    ///
+    /// # Errors
+    /// As [`ViscoSpec::series`]; a temperature without a `shift`, or one the
+    /// shift refuses.
+    pub fn at(&self, series: &Prony, temperature: Option<f64>) -> Result<Prony, ScenarioError> {
+        let Some(t) = temperature.or(self.temperature.map(|t| t.0)) else {
+            return Ok(series.clone());
+        };
+        let shift = self.shift().ok_or_else(|| {
+            ScenarioError::Invalid(
+                "[material.viscoelastic]: a temperature needs [material.viscoelastic.shift]".into(),
+            )
+        })?;
+        let factor = shift.factor(t).map_err(visco_error("temperature"))?;
+        series.shifted(factor).map_err(visco_error("temperature"))
+    }
+
+    fn start(&self) -> Result<ViscoStart, ScenarioError> {
+        match self.start.as_deref() {
+            None | Some("fresh") => Ok(ViscoStart::Fresh),
+            Some("relaxed") => Ok(ViscoStart::Relaxed),
+            Some(other) => Err(ScenarioError::Value {
+                key: "[material.viscoelastic] start".into(),
+                value: format!("{other:?}"),
+                expected: "\"fresh\" or \"relaxed\"".into(),
+            }),
+        }
+    }
+}
+
+/// One viscoelastic rolling run of a sweep: the `[rolling]` section with
+/// its speed and the tread's temperature replaced where given.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ViscoCase {
+    /// Speed (m/s); `None`: `[rolling] speed`.
+    pub speed: Option<f64>,
+    /// Tread temperature (K); `None`: `[material.viscoelastic] temperature`.
+    pub temperature: Option<f64>,
+}
+
+impl Scenario {
+    /// The tread's Prony series at its temperature, when `[material]` has a
+    /// `[material.viscoelastic]` section.
+    ///
+    /// # Errors
+    /// As [`ViscoSpec::series`] and [`ViscoSpec::at`].
+    pub fn viscoelastic_material(&self, base_dir: &Path) -> Result<Option<Prony>, ScenarioError> {
+        let Some(spec) = &self.material.viscoelastic else {
+            return Ok(None);
+        };
+        let series = spec.series(self.material.poisson_ratio, base_dir)?;
+        spec.at(&series, None).map(Some)
+    }
+
+    /// Viscoelastic rolling runs of the `[rolling]` section on the
+    /// scenario's road (built once), one per case; one case that fails is
+    /// its own error, not the others'. Each run is sequential along its path
+    /// (docs/viscoelastic.md, "Rolling"); `options.par` is not used.
+    ///
+    /// # Errors
+    /// The whole call fails for no `[rolling]` or `[material.viscoelastic]`
+    /// section, an invalid series or road.
+    pub fn roll_viscoelastic(
+        &self,
+        options: &RunOptions<'_>,
+        cases: &[ViscoCase],
+    ) -> Result<Vec<Result<RollingRun, ScenarioError>>, ScenarioError> {
+        let spec = self.rolling_section()?;
+        let visco = self.material.viscoelastic.as_ref().ok_or_else(|| {
+            ScenarioError::Invalid("the scenario's [material] has no viscoelastic section".into())
+        })?;
+        let series = visco.series(self.material.poisson_ratio, &options.base_dir)?;
+        let material = self.material()?;
+        let sweep = Sweep {
+            scenario: self,
+            visco,
+            series: &series,
+            material,
+            options,
+            cases,
+        };
+        if let Some(texture) = &self.texture {
+            let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
+            // Gaps at each cap's contact point, as the elastic run takes them.
+            let road = rolling::Road::new(set).with_summit_radii(radii)?;
+            return Ok(sweep.on(&road, RoadSummary::Texture(summary)));
+        }
+        match (self.asperities.is_empty(), &spec.synthetic_road) {
+            (false, None) => {
+                let set = self.asperity_set()?;
+                let count = set.len();
+                Ok(sweep.on(&rolling::Road::new(set), RoadSummary::Asperities { count }))
+            }
+            (true, Some(synth)) => {
+                let road = synth.road().sphere_road(material)?;
+                let count = road.len();
+                Ok(sweep.on(&road, RoadSummary::Synthetic { count }))
+            }
+            _ => Err(ScenarioError::Invalid(
+                "no road, or two: give [[asperity]] entries or [rolling.synthetic_road]".into(),
+            )),
+        }
+    }
+}
+
+struct Sweep<'a> {
+    scenario: &'a Scenario,
+    visco: &'a ViscoSpec,
+    series: &'a Prony,
+    material: Material,
+    options: &'a RunOptions<'a>,
+    cases: &'a [ViscoCase],
+}
+
+impl Sweep<'_> {
+    fn on<L: ContactLaw + Sync>(
+        &self,
+        road: &rolling::Road<L>,
+        summary: RoadSummary,
+    ) -> Vec<Result<RollingRun, ScenarioError>> {
+        self.cases
+            .iter()
+            .map(|case| self.one(road, summary.clone(), case))
+            .collect()
+    }
+
+    fn one<L: ContactLaw + Sync>(
+        &self,
+        road: &rolling::Road<L>,
+        summary: RoadSummary,
+        case: &ViscoCase,
+    ) -> Result<RollingRun, ScenarioError> {
+        let spec = self.scenario.rolling_section()?;
+        let mut config = self.scenario.rolling_config()?;
+        if let Some(speed) = case.speed {
+            config.speed = speed;
+        }
+        let tread = self.visco.at(self.series, case.temperature)?;
+        let options = ViscoRollOptions {
+            start: self.visco.start()?,
+            progress: self.options.progress,
+            ..ViscoRollOptions::default()
+        };
+        let run = roll_viscoelastic(road, self.material, &tread, &config, &options).map_err(
+            |e| match e {
+                ViscoError::Rolling { source } => ScenarioError::Rolling(source),
+                other => ScenarioError::Invalid(format!("viscoelastic rolling: {other}")),
+            },
+        )?;
+        // The spectra are those of steady rolling: the first footprint
+        // length, which still holds the start's loading, is left out (the
+        // time signals keep every step).
+        let mut steady = run.result.clone();
+        if run.transient_steps + 8 < steady.steps.len() {
+            steady.steps.drain(..run.transient_steps);
+        }
+        let spectra = spectra(&config, spec, &steady)?;
+        Ok(RollingRun {
+            road: summary,
+            road_positions: road.positions().to_vec(),
+            road_heights: road.heights().to_vec(),
+            config,
+            result: run.result,
+            spectra,
+        })
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::{Temperature, ViscoCase};
+    use crate::scenario::{RunOptions, Scenario, ScenarioResult};
+
+    /// fixtures/rolling_small.toml's run with a viscoelastic tread.
+    fn small(material: &str) -> Scenario {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/fixtures/rolling_small.toml"
+        ))
+        .unwrap();
+        let text = text.replace(
+            "[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n",
+            material,
+        );
+        Scenario::parse(&text, "small").unwrap()
+    }
+
+    const VISCO: &str = r#"[material]
+youngs_modulus = "6.54 MPa"
+poisson_ratio = 0.5
+
+[material.viscoelastic]
+long_term = "2 MPa"
+
+[[material.viscoelastic.branch]]
+modulus = "3 MPa"
+relaxation_time = "1 ms"
+
+[[material.viscoelastic.branch]]
+modulus = "5 MPa"
+relaxation_time = "20 us"
+
+[material.viscoelastic.shift]
+kind = "wlf"
+c1 = 8.86
+c2 = 101.6
+reference = "20 degC"
+"#;
+
+    #[test]
+    fn a_viscoelastic_scenario_rolls_in_time_between_its_elastic_limits() {
+        let visco = small(VISCO);
+        let options = RunOptions::new(env!("CARGO_MANIFEST_DIR"));
+        let approach = |run: &crate::scenario::RollingRun| run.result.approach();
+        let run = |s: &Scenario| match s.run(&options).unwrap() {
+            ScenarioResult::Rolling(r) => approach(&r),
+            _ => panic!("not a rolling run"),
+        };
+        let at = |e: &str| {
+            small(&format!(
+                "[material]\nyoungs_modulus = \"{e}\"\npoisson_ratio = 0.5\n"
+            ))
+        };
+        // Scenario::run rolls the viscoelastic tread at [rolling] speed.
+        let rolled = run(&visco);
+        let (relaxed, glassy) = (run(&at("2 MPa")), run(&at("10 MPa")));
+        for k in 0..rolled.len() {
+            assert!(glassy[k] < rolled[k] && rolled[k] < relaxed[k], "step {k}");
+        }
+        // The sweep: very slow is the relaxed elastic run (0.5 %); a cold
+        // tread (slower relaxation, WLF) is stiffer than a warm one.
+        let cases = [
+            ViscoCase {
+                speed: Some(1e-5),
+                temperature: None,
+            },
+            ViscoCase {
+                speed: None,
+                temperature: Some(273.15),
+            },
+            ViscoCase {
+                speed: None,
+                temperature: Some(313.15),
+            },
+        ];
+        let runs = visco.roll_viscoelastic(&options, &cases).unwrap();
+        let runs: Vec<Vec<f64>> = runs.into_iter().map(|r| approach(&r.unwrap())).collect();
+        for k in 0..rolled.len() {
+            assert!((runs[0][k] / relaxed[k] - 1.0).abs() < 5e-3, "step {k}");
+            assert!(runs[1][k] < rolled[k] && rolled[k] < runs[2][k], "step {k}");
+        }
+        // Split runs are refused: the memory runs along the whole path.
+        assert!(visco.roll_part(&options, 0..10, 2).is_err());
+    }
+
+    #[test]
+    fn a_bad_viscoelastic_section_is_named() {
+        let options = RunOptions::new(env!("CARGO_MANIFEST_DIR"));
+        let neither = small(
+            "[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\n[material.viscoelastic]\n",
+        );
+        let err = neither.run(&options).unwrap_err().to_string();
+        assert!(err.contains("[material.viscoelastic]"), "{err}");
+        let unshifted = small(&VISCO.replace("[material.viscoelastic.shift]\nkind = \"wlf\"\nc1 = 8.86\nc2 = 101.6\nreference = \"20 degC\"\n", ""));
+        let case = [ViscoCase {
+            speed: None,
+            temperature: Some(300.0),
+        }];
+        let runs = unshifted.roll_viscoelastic(&options, &case).unwrap();
+        let err = runs[0].as_ref().unwrap_err().to_string();
+        assert!(err.contains("shift"), "{err}");
+    }
+
+    #[test]
+    fn temperatures_convert_to_kelvin() {
+        assert_eq!(Temperature::parse("293.15 K").unwrap().0, 293.15);
+        assert!((Temperature::parse("20 °C").unwrap().0 - 293.15).abs() < 1e-12);
+        assert!((Temperature::parse("-10 degC").unwrap().0 - 263.15).abs() < 1e-12);
+        assert!(Temperature::parse("-300 °C").is_err());
+        assert!(Temperature::parse("warm").unwrap_err().contains("warm"));
+    }
+}
