@@ -32,6 +32,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 println!("{} N: two-scale contact area {:.2} mm²", l.load, area * 1e6);
             }
         }
+        ScenarioResult::History(r) => {
+            for s in &r.steps {
+                println!(
+                    "t = {:.3} ms: {:.2} N, approach {:.4} mm",
+                    s.time * 1e3,
+                    s.load,
+                    s.approach * 1e3
+                );
+            }
+        }
         ScenarioResult::Rolling(r) => {
             let peak = r.result.total_force().into_iter().fold(0.0, f64::max);
             println!(

@@ -166,3 +166,36 @@ fn an_elastic_tread_and_bad_segments_are_refused_by_name() {
         .expect_err("no segment");
     assert!(error.to_string().contains("segment"), "{error}");
 }
+
+/// `Scenario::run` on a `[static.history]` takes the scenario's own
+/// `[material.viscoelastic]` tread: the same steps as the explicit call
+/// with that series, to 1e-12 relative (the series is rebuilt from the
+/// file's units, so the last bit may differ).
+#[test]
+fn a_history_with_a_viscoelastic_material_runs_from_the_scenario() {
+    let tread_section = "[material.viscoelastic]\nlong_term = \"2 MPa\"\n\n\
+        [[material.viscoelastic.branch]]\nmodulus = \"3 MPa\"\nrelaxation_time = \"1 ms\"\n\n\
+        [[material.viscoelastic.branch]]\nmodulus = \"5 MPa\"\nrelaxation_time = \"20 us\"\n";
+    let text = scenario("6 MPa", &history("2 ms")).replacen(
+        "[default_shape]",
+        &format!("{tread_section}\n[default_shape]"),
+        1,
+    );
+    let s = Scenario::parse(&text, "test").expect("parses");
+    let from_run = match s.run(&crate::scenario::RunOptions::new(".")).expect("runs") {
+        crate::scenario::ScenarioResult::History(r) => r,
+        _ => panic!("not a history run"),
+    };
+    let explicit = run_load_history_scenario(&s, Some(&tread())).expect("runs");
+    assert!(from_run.failure.is_none());
+    assert_eq!(from_run.steps.len(), explicit.steps.len());
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+    for (a, b) in from_run.steps.iter().zip(&explicit.steps) {
+        assert!(
+            close(a.approach, b.approach) && a.load == b.load,
+            "{a:?} vs {b:?}"
+        );
+        assert!(a.forces.iter().zip(&b.forces).all(|(x, y)| close(*x, *y)));
+    }
+    assert_eq!(from_run.steps.len(), 20);
+}

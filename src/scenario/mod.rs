@@ -96,6 +96,8 @@ pub enum ScenarioResult {
     Texture(TextureResult),
     /// A `[rolling]` run.
     Rolling(Box<RollingRun>),
+    /// A `[static.history]` run with a `[material.viscoelastic]` tread.
+    History(HistoryResult),
 }
 
 impl Scenario {
@@ -241,9 +243,11 @@ impl Scenario {
             .as_ref()
             .is_some_and(|s| s.history.is_some())
         {
-            // `[material]` here is elastic: a loading history means nothing
-            // for it (`run_load_history_scenario` takes the viscoelastic one).
-            return Err(history::elastic_refusal());
+            // An elastic `[material]` has no history: refused by name.
+            let tread = self
+                .viscoelastic_material(&options.base_dir)?
+                .ok_or_else(history::elastic_refusal)?;
+            return run_load_history_scenario(self, Some(&tread)).map(ScenarioResult::History);
         }
         run_static(self).map(ScenarioResult::Static)
     }

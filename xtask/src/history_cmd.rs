@@ -1,13 +1,15 @@
-//! `cargo xtask history SCENARIO --viscoelastic E_INF,E1@TAU1,... [--out DIR]`:
+//! `cargo xtask history SCENARIO [--viscoelastic E_INF,E1@TAU1,...] [--out DIR]`:
 //! a static scenario's `[static.history]` run by the hereditary model with
-//! the given tread (docs/viscoelastic.md, "Loading history in scenario
-//! files"); prints one line per step and writes `history.csv`.
+//! the scenario's `[material.viscoelastic]` tread, or the one given here
+//! (docs/viscoelastic.md, "Loading history in scenario files"); prints one
+//! line per step and writes `history.csv`. `cargo xtask run` on such a
+//! scenario does the same with the scenario's tread.
 
 use std::path::PathBuf;
 
 use anyhow::Result;
 use tyreroad::scenario::output::OutputSet;
-use tyreroad::scenario::{Scenario, run_load_history_scenario, write_history_csv};
+use tyreroad::scenario::{HistoryResult, Scenario, run_load_history_scenario, write_history_csv};
 
 use crate::rolling_visco_bem_cmd::parse_prony;
 
@@ -17,9 +19,10 @@ pub struct HistoryArgs {
     /// A static scenario with a `[static.history]` on an `[[asperity]]` list.
     pub scenario: PathBuf,
     /// The viscoelastic tread `E_INF,E1@TAU1,E2@TAU2,...` (Pa, s), with the
-    /// scenario's Poisson's ratio.
+    /// scenario's Poisson's ratio; default: the scenario's
+    /// `[material.viscoelastic]`.
     #[arg(long)]
-    pub viscoelastic: String,
+    pub viscoelastic: Option<String>,
     /// Output directory.
     #[arg(long, default_value = "validation/history")]
     pub out: PathBuf,
@@ -28,8 +31,19 @@ pub struct HistoryArgs {
 /// Runs the history, prints the steps, writes `history.csv`.
 pub fn run(args: &HistoryArgs) -> Result<()> {
     let scenario = Scenario::from_path(&args.scenario)?;
-    let tread = parse_prony(&args.viscoelastic, scenario.material()?.poisson_ratio())?;
-    let result = run_load_history_scenario(&scenario, Some(&tread))?;
+    let base = args.scenario.parent().unwrap_or(std::path::Path::new("."));
+    let tread = match &args.viscoelastic {
+        Some(text) => Some(parse_prony(text, scenario.material()?.poisson_ratio())?),
+        None => scenario.viscoelastic_material(base)?,
+    };
+    // No tread at all: the library's named `[material]` refusal.
+    let result = run_load_history_scenario(&scenario, tread.as_ref())?;
+    report(&result, &args.out)
+}
+
+/// Prints the steps, writes `history.csv` into `out` (whole, or not at
+/// all), and fails after writing when the history stopped early.
+pub fn report(result: &HistoryResult, out: &std::path::Path) -> Result<()> {
     println!(
         "{:>12} {:>12} {:>14} {:>9}",
         "time (ms)", "load (N)", "approach (mm)", "receding"
@@ -46,8 +60,8 @@ pub fn run(args: &HistoryArgs) -> Result<()> {
     if let Some(failure) = &result.failure {
         println!("stopped early: {failure}");
     }
-    let mut set = OutputSet::new(&args.out)?;
-    write_history_csv(&result, &mut set)?;
+    let mut set = OutputSet::new(out)?;
+    write_history_csv(result, &mut set)?;
     for path in set.commit()? {
         println!("wrote {}", path.display());
     }

@@ -145,6 +145,9 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
         ScenarioResult::Rolling(run) => {
             return rolling_cmd::report_rolling(&run, out)?.finish(strict);
         }
+        // A history stopped early fails after writing, strict or not: its
+        // later steps depend on the failed one.
+        ScenarioResult::History(r) => return history_cmd::report(&r, out),
     };
     statics::print_written(&set.commit()?);
     fallbacks.finish(strict)

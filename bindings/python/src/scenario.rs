@@ -9,7 +9,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use tyreroad::scenario::{
-    Progress, RollingRun, RunOptions, Scenario, ScenarioResult, StaticResult, TextureResult,
+    HistoryResult, Progress, RollingRun, RunOptions, Scenario, ScenarioResult, StaticResult,
+    TextureResult,
 };
 
 use crate::arrays::{to_numpy1, to_numpy2};
@@ -75,6 +76,30 @@ fn load(scenario: &Bound<'_, PyAny>, base_dir: Option<PathBuf>) -> PyResult<(Sce
     let s = Scenario::from_path(&path).or_raise()?;
     let dir = path.parent().map(PathBuf::from).unwrap_or_default();
     Ok((s, base_dir.unwrap_or(dir)))
+}
+
+/// A `[static.history]` run: per step time, load, approach, receding
+/// count, and the forces as a (steps, asperities) array.
+fn history_dict<'py>(py: Python<'py>, r: &HistoryResult) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("kind", "history")?;
+    out.set_item("name", &r.name)?;
+    out.set_item("ids", r.ids.clone())?;
+    let steps = |f: fn(&tyreroad::scenario::HistoryStep) -> f64| {
+        to_numpy1(py, r.steps.iter().map(f).collect())
+    };
+    out.set_item("time", steps(|s| s.time))?;
+    out.set_item("load", steps(|s| s.load))?;
+    out.set_item("approach", steps(|s| s.approach))?;
+    out.set_item("receding", steps(|s| s.receding as f64))?;
+    let forces: Vec<f64> = r
+        .steps
+        .iter()
+        .flat_map(|s| s.forces.iter().copied())
+        .collect();
+    out.set_item("forces", to_numpy2(py, forces, r.steps.len(), r.ids.len())?)?;
+    out.set_item("failure", r.failure.clone())?;
+    Ok(out)
 }
 
 fn static_dict<'py>(py: Python<'py>, r: &StaticResult) -> PyResult<Bound<'py, PyDict>> {
@@ -250,6 +275,7 @@ fn run_scenario<'py>(
         ScenarioResult::Static(r) => static_dict(py, &r),
         ScenarioResult::Texture(r) => texture_dict(py, r),
         ScenarioResult::Rolling(r) => rolling_dict(py, &r),
+        ScenarioResult::History(r) => history_dict(py, &r),
     }
 }
 
