@@ -10,11 +10,15 @@
 //! - `texture info FILE` / `texture synth ...`: road texture files;
 //! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
 //!   texture against the full-BEM rolling reference.
+//! - `converge-sweep SCENARIO --loads 500..3000:100 --steps 0.25,0.5,1,2mm`:
+//!   a rolling texture scenario at every load and step, steps converged,
+//!   failed and recovered by clusters;
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 
 mod bem_validation;
 mod charts;
+mod converge_sweep;
 mod film_cmd;
 mod pressure_image;
 mod rolling_bem_cmd;
@@ -66,6 +70,9 @@ enum Command {
         #[arg(long)]
         kind: Option<String>,
     },
+    /// Roll a texture scenario at every load and step length; print the
+    /// table of steps converged, failed and recovered by clusters.
+    ConvergeSweep(converge_sweep::ConvergeSweepArgs),
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
     /// Road textures: `info FILE` (Sq, MPD, ...) and `synth ... --out FILE.x3p`.
@@ -90,6 +97,7 @@ fn main() -> Result<()> {
         Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
+        Command::ConvergeSweep(args) => converge_sweep::run(&args),
         Command::Sweep(args) => sweep_cmd::run(&args),
         #[cfg(feature = "mpi")]
         Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
