@@ -91,7 +91,10 @@ fn two_spheres_with_overlapping_patches_as_one_body_match_the_bem() {
             100.0 * (point / bem - 1.0),
             100.0 * (clustered / bem - 1.0)
         );
-        assert!((clustered / bem - 1.0).abs() < 0.03, "{separation}: {clustered} vs {bem}");
+        assert!(
+            (clustered / bem - 1.0).abs() < 0.03,
+            "{separation}: {clustered} vs {bem}"
+        );
         assert_eq!(n, usize::from(separation < 2.8e-3));
         if n == 0 {
             assert_eq!(point, clustered);

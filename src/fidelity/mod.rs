@@ -162,11 +162,7 @@ impl Fidelity {
                 Interaction::DISTRIBUTED,
                 base.clusters,
             ),
-            Self::Clustered => (
-                LawSource::Calibrated,
-                Interaction::Point,
-                Clusters::Always,
-            ),
+            Self::Clustered => (LawSource::Calibrated, Interaction::Point, Clusters::Always),
         };
         Ok(Rung {
             fidelity: self,

@@ -97,7 +97,9 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
         t.elapsed().as_secs_f64()
     );
     let base_config = scenario.rolling_config()?;
-    println!("| step (mm) | load (N) | steps | converged | stagnated | failed | recovered by clusters | other recoveries | s |");
+    println!(
+        "| step (mm) | load (N) | steps | converged | stagnated | failed | recovered by clusters | other recoveries | s |"
+    );
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut totals = Vec::new();
     let mut failed_total = 0;
@@ -156,18 +158,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn load_ranges_and_step_lists_parse() {
-        let loads = parse_loads("500..3000:100").unwrap();
+    fn load_ranges_and_step_lists_parse() -> Result<()> {
+        let loads = parse_loads("500..3000:100")?;
         assert_eq!(loads.len(), 26);
         assert_eq!((loads[0], loads[25]), (500.0, 3000.0));
-        assert_eq!(parse_loads("1300, 3000 N").unwrap(), vec![1300.0, 3000.0]);
+        assert_eq!(parse_loads("1300, 3000 N")?, vec![1300.0, 3000.0]);
         assert!(parse_loads("3000..500:100").is_err());
         assert!(parse_loads("0..1e9:1e-3").is_err());
         assert!(parse_loads("x").is_err());
         assert_eq!(
-            parse_steps("0.25,0.5,1,2mm").unwrap(),
+            parse_steps("0.25,0.5,1,2mm")?,
             vec![0.25e-3, 0.5e-3, 1e-3, 2e-3]
         );
         assert!(parse_steps("-1mm").is_err());
+        Ok(())
     }
 }

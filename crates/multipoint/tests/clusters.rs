@@ -34,7 +34,10 @@ fn check_members(problem: &Problem<PotentialLaw<Sphere>>, s: &Solution, load: f6
     for (i, (&p, &d)) in s.forces.iter().zip(&s.depths).enumerate() {
         assert!(p >= 0.0);
         let law = problem.laws()[i].force(d);
-        assert!((p - law).abs() <= 1e-8 * load, "asperity {i}: {p} vs law {law}");
+        assert!(
+            (p - law).abs() <= 1e-8 * load,
+            "asperity {i}: {p} vs law {law}"
+        );
     }
     // Members of one cluster share one depth less their gap offsets.
     for c in &s.clusters {
@@ -55,7 +58,10 @@ fn the_folding_layout_converges_once_its_overlapping_contacts_are_one_body() {
     assert_eq!(s.convergence, Convergence::Converged);
     assert!(!s.clusters.is_empty());
     let merged: usize = s.clusters.iter().map(Vec::len).sum();
-    eprintln!("clusters {:?}, merged {merged}, iterations {}", s.clusters, s.iterations);
+    eprintln!(
+        "clusters {:?}, merged {merged}, iterations {}",
+        s.clusters, s.iterations
+    );
     check_members(&problem, &s, 100.0);
 }
 
@@ -100,7 +106,10 @@ fn always_merges_overlapping_contacts_of_a_converged_solve() {
     // No overlap is left between two different bodies.
     let body = |i: usize| s.clusters.iter().position(|c| c.contains(&i));
     for (i, j) in pairs {
-        assert!(body(i).is_some() && body(i) == body(j), "{i} and {j} overlap");
+        assert!(
+            body(i).is_some() && body(i) == body(j),
+            "{i} and {j} overlap"
+        );
     }
     check_members(&problem, &s, 50.0);
 }
