@@ -25,15 +25,17 @@ fn texture_scenario(fidelity: &str) -> String {
 
 #[test]
 fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
-    let e = Scenario::parse(&texture_scenario("clustered"), "t").unwrap_err();
+    let e = Scenario::parse(&texture_scenario("clusters"), "t").unwrap_err();
     assert!(
         matches!(&e, ScenarioError::Value { key, .. } if key.ends_with("[model] fidelity")),
         "{e}"
     );
     let s = Scenario::parse(&texture_scenario("distributed"), "t").unwrap();
     assert_eq!(s.model.fidelity().unwrap(), Fidelity::Distributed);
+    let s = Scenario::parse(&texture_scenario("clustered"), "t").unwrap();
+    assert_eq!(s.model.fidelity().unwrap(), Fidelity::Clustered);
     // Calibrated laws are built from a texture's caps: not for balls.
-    for fidelity in ["calibrated", "distributed"] {
+    for fidelity in ["calibrated", "distributed", "clustered"] {
         let balls = format!(
             "name = \"b\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
              [model]\nfidelity = \"{fidelity}\"\n[static]\nloads = [\"5 N\"]\n\
@@ -54,7 +56,7 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
 
 #[test]
 fn a_calibrated_texture_run_balances_every_load() -> TestResult {
-    for fidelity in ["wilke", "calibrated"] {
+    for fidelity in ["wilke", "calibrated", "clustered"] {
         let s = Scenario::parse(&texture_scenario(fidelity), fidelity)?;
         let ScenarioResult::Texture(r) = s.run(&RunOptions::new("."))? else {
             return Err("not a texture result".into());
