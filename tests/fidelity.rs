@@ -112,10 +112,21 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
     let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
     assert_eq!(c.asperities, 2);
     // The two caps are the same shape: one calibration solve, which the
-    // calibrated and the distributed rungs share (three cache hits).
-    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 3));
+    // calibrated, distributed and clustered rungs share (five cache hits).
+    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 5));
     assert_eq!(c.rungs[1].fidelity, Fidelity::Calibrated);
     assert_eq!(c.rungs[2].fidelity, Fidelity::Distributed);
+    assert_eq!(c.rungs[3].fidelity, Fidelity::Clustered);
+    // 12 mm apart, no patches overlap: the clustered rung is the
+    // calibrated one, bit for bit.
+    for (a, b) in c.rungs[1].loads.iter().zip(&c.rungs[3].loads) {
+        let (a, b) = (
+            a.as_ref().map_err(|e| e.clone())?,
+            b.as_ref().map_err(|e| e.clone())?,
+        );
+        assert_eq!(a.approach_error.to_bits(), b.approach_error.to_bits());
+        assert_eq!(a.wrong_asperity.to_bits(), b.wrong_asperity.to_bits());
+    }
     for l in c.rungs[1].loads.iter().chain(&c.rungs[2].loads) {
         let l = l.as_ref().map_err(|e| e.clone())?;
         // Two balls 12 mm apart at a ≤ 1.4 mm: the point coupling (and
