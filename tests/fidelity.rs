@@ -25,15 +25,17 @@ fn texture_scenario(fidelity: &str) -> String {
 
 #[test]
 fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
-    let e = Scenario::parse(&texture_scenario("clustered"), "t").unwrap_err();
+    let e = Scenario::parse(&texture_scenario("clusters"), "t").unwrap_err();
     assert!(
         matches!(&e, ScenarioError::Value { key, .. } if key.ends_with("[model] fidelity")),
         "{e}"
     );
     let s = Scenario::parse(&texture_scenario("distributed"), "t").unwrap();
     assert_eq!(s.model.fidelity().unwrap(), Fidelity::Distributed);
+    let s = Scenario::parse(&texture_scenario("clustered"), "t").unwrap();
+    assert_eq!(s.model.fidelity().unwrap(), Fidelity::Clustered);
     // Calibrated laws are built from a texture's caps: not for balls.
-    for fidelity in ["calibrated", "distributed"] {
+    for fidelity in ["calibrated", "distributed", "clustered"] {
         let balls = format!(
             "name = \"b\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
              [model]\nfidelity = \"{fidelity}\"\n[static]\nloads = [\"5 N\"]\n\
@@ -54,7 +56,7 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
 
 #[test]
 fn a_calibrated_texture_run_balances_every_load() -> TestResult {
-    for fidelity in ["wilke", "calibrated"] {
+    for fidelity in ["wilke", "calibrated", "clustered"] {
         let s = Scenario::parse(&texture_scenario(fidelity), fidelity)?;
         let ScenarioResult::Texture(r) = s.run(&RunOptions::new("."))? else {
             return Err("not a texture result".into());
@@ -110,10 +112,21 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
     let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
     assert_eq!(c.asperities, 2);
     // The two caps are the same shape: one calibration solve, which the
-    // calibrated and the distributed rungs share (three cache hits).
-    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 3));
+    // calibrated, distributed and clustered rungs share (five cache hits).
+    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 5));
     assert_eq!(c.rungs[1].fidelity, Fidelity::Calibrated);
     assert_eq!(c.rungs[2].fidelity, Fidelity::Distributed);
+    assert_eq!(c.rungs[3].fidelity, Fidelity::Clustered);
+    // 12 mm apart, no patches overlap: the clustered rung is the
+    // calibrated one, bit for bit.
+    for (a, b) in c.rungs[1].loads.iter().zip(&c.rungs[3].loads) {
+        let (a, b) = (
+            a.as_ref().map_err(|e| e.clone())?,
+            b.as_ref().map_err(|e| e.clone())?,
+        );
+        assert_eq!(a.approach_error.to_bits(), b.approach_error.to_bits());
+        assert_eq!(a.wrong_asperity.to_bits(), b.wrong_asperity.to_bits());
+    }
     for l in c.rungs[1].loads.iter().chain(&c.rungs[2].loads) {
         let l = l.as_ref().map_err(|e| e.clone())?;
         // Two balls 12 mm apart at a ≤ 1.4 mm: the point coupling (and

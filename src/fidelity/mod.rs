@@ -17,6 +17,10 @@
 //!   their pressure fields instead of the point kernel
 //!   ([`crate::multipoint::Interaction::DISTRIBUTED`], docs/theory.md §3);
 //!   far pairs keep the point kernel.
+//! - `clustered`: the calibrated laws, point coupling, and asperities whose
+//!   contact patches overlap merged into one body each
+//!   ([`crate::multipoint::Clusters::Always`], docs/theory.md §3
+//!   "Clusters"): where no patches overlap it is the `calibrated` rung.
 //!
 //! Invariants: a calibrated law keeps the [`crate::contact_law::ContactLaw`]
 //! contract (`P = k = 0` for `δ ≤ 0`, `P` continuous and non-decreasing,
@@ -36,7 +40,7 @@ pub use calibrate::{
 };
 pub use texture::{calibrated_set, cap_patch};
 
-use crate::multipoint::{Interaction, SolverOptions};
+use crate::multipoint::{Clusters, Interaction, SolverOptions};
 
 /// Errors of the fidelity module.
 #[derive(Debug, thiserror::Error)]
@@ -52,7 +56,7 @@ pub enum FidelityError {
         expected: String,
     },
     /// An unknown fidelity name.
-    #[error("unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed)")]
+    #[error("unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed, clustered)")]
     UnknownFidelity(String),
     /// A BEM solve failed.
     #[error("{context}: {source}")]
@@ -97,10 +101,18 @@ pub enum Fidelity {
     Calibrated,
     /// BEM-calibrated laws, distributed near-pair coupling.
     Distributed,
+    /// BEM-calibrated laws, point coupling, overlapping contacts merged
+    /// into clusters solved as one body.
+    Clustered,
 }
 
 /// Every rung, in ladder order: the validation harness runs this list.
-pub const RUNGS: [Fidelity; 3] = [Fidelity::Wilke, Fidelity::Calibrated, Fidelity::Distributed];
+pub const RUNGS: [Fidelity; 4] = [
+    Fidelity::Wilke,
+    Fidelity::Calibrated,
+    Fidelity::Distributed,
+    Fidelity::Clustered,
+];
 
 /// Where a rung's laws come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,27 +141,36 @@ impl Fidelity {
             Self::Wilke => "wilke",
             Self::Calibrated => "calibrated",
             Self::Distributed => "distributed",
+            Self::Clustered => "clustered",
         }
     }
 
     /// The one place where a rung becomes (law source, solver options),
     /// starting from the caller's `base` options.
-    /// The base's [`SolverOptions::interaction`] is replaced by the rung's.
+    /// The base's [`SolverOptions::interaction`] is replaced by the rung's,
+    /// and its [`SolverOptions::clusters`] by `Always` on the `clustered`
+    /// rung.
     ///
     /// # Errors
     /// None today; the `Result` leaves room for a rung that cannot run
     /// with the given options.
     pub fn rung(self, base: &SolverOptions) -> Result<Rung, FidelityError> {
-        let (laws, interaction) = match self {
-            Self::Wilke => (LawSource::Potential, Interaction::Point),
-            Self::Calibrated => (LawSource::Calibrated, Interaction::Point),
-            Self::Distributed => (LawSource::Calibrated, Interaction::DISTRIBUTED),
+        let (laws, interaction, clusters) = match self {
+            Self::Wilke => (LawSource::Potential, Interaction::Point, base.clusters),
+            Self::Calibrated => (LawSource::Calibrated, Interaction::Point, base.clusters),
+            Self::Distributed => (
+                LawSource::Calibrated,
+                Interaction::DISTRIBUTED,
+                base.clusters,
+            ),
+            Self::Clustered => (LawSource::Calibrated, Interaction::Point, Clusters::Always),
         };
         Ok(Rung {
             fidelity: self,
             laws,
             solver: SolverOptions {
                 interaction,
+                clusters,
                 ..*base
             },
         })

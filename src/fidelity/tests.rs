@@ -157,7 +157,7 @@ fn rungs_parse_by_name_and_map_to_their_laws_and_coupling() {
         assert_eq!(r.name().parse::<Fidelity>().unwrap(), r);
     }
     assert!(matches!(
-        "clustered".parse::<Fidelity>(),
+        "clusters".parse::<Fidelity>(),
         Err(FidelityError::UnknownFidelity(_))
     ));
     let base = crate::multipoint::SolverOptions::default();
@@ -178,5 +178,20 @@ fn rungs_parse_by_name_and_map_to_their_laws_and_coupling() {
     assert_eq!(
         Fidelity::Calibrated.rung(&base).unwrap().solver.interaction,
         crate::multipoint::Interaction::Point
+    );
+    let clustered = Fidelity::Clustered.rung(&base).unwrap();
+    assert_eq!(clustered.laws, LawSource::Calibrated);
+    assert_eq!(
+        clustered.solver.interaction,
+        crate::multipoint::Interaction::Point
+    );
+    assert_eq!(
+        clustered.solver.clusters,
+        crate::multipoint::Clusters::Always
+    );
+    // The other rungs keep the caller's choice.
+    assert_eq!(
+        Fidelity::Wilke.rung(&base).unwrap().solver.clusters,
+        base.clusters
     );
 }

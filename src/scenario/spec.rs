@@ -424,6 +424,26 @@ impl Scenario {
         Ok(config)
     }
 
+    /// The `[texture]` road as rolling sees it (segmented, each asperity
+    /// with its cap's law, y centred on the path): what a rolling run on
+    /// this scenario solves, built once for callers that roll it many times
+    /// (`cargo xtask converge-sweep`). Relative paths resolve against
+    /// `base_dir`.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] without a `[texture]`, or any error of
+    /// reading, synthesising or segmenting it.
+    pub fn texture_road_set(
+        &self,
+        base_dir: &Path,
+    ) -> Result<AsperitySet<crate::texture_road::TextureLaw>> {
+        let texture = self
+            .texture
+            .as_ref()
+            .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
+        Ok(super::texture::texture_road_set(texture, base_dir, self.material()?)?.0)
+    }
+
     /// Asperity labels, in file order.
     pub fn ids(&self) -> Vec<u32> {
         self.asperities

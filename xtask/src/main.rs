@@ -11,8 +11,11 @@
 //! - `rolling-bem SCENARIO [--steps N] [--out DIR]`: a rolling scenario on a
 //!   texture against the full-BEM rolling reference; with
 //!   `--viscoelastic E_INF,E1@TAU1,...` the viscoelastic rolling BEM.
-//! - `history SCENARIO --viscoelastic E_INF,E1@TAU1,...`: a static
+//! - `history SCENARIO [--viscoelastic E_INF,E1@TAU1,...]`: a static
 //!   scenario's `[static.history]` with a viscoelastic tread;
+//! - `converge-sweep SCENARIO --loads 500..3000:100 --steps 0.25,0.5,1,2mm`:
+//!   a rolling texture scenario at every load and step, steps converged,
+//!   failed and recovered by clusters;
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
 //! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
@@ -21,6 +24,7 @@
 
 mod bem_validation;
 mod charts;
+mod converge_sweep;
 mod film_cmd;
 mod history_cmd;
 mod pressure_image;
@@ -78,6 +82,9 @@ enum Command {
         #[arg(long)]
         kind: Option<String>,
     },
+    /// Roll a texture scenario at every load and step length; print the
+    /// table of steps converged, failed and recovered by clusters.
+    ConvergeSweep(converge_sweep::ConvergeSweepArgs),
     /// Analyse a pressure-film scan: per-print forces, areas, radii.
     Film(Box<film_cmd::FilmArgs>),
     /// Road textures: `info FILE` (Sq, MPD, ...) and `synth ... --out FILE.x3p`.
@@ -107,6 +114,7 @@ fn main() -> Result<()> {
         Command::Texture { cmd } => texture_cmd::run(&cmd),
         Command::Torture { kind } => torture::run(kind.as_deref()),
         Command::RollingBem(args) => rolling_bem_cmd::run(&args),
+        Command::ConvergeSweep(args) => converge_sweep::run(&args),
         Command::Sweep(args) => sweep_cmd::run(&args),
         Command::History(args) => history_cmd::run(&args),
         Command::ViscoSweep(args) => visco_sweep::run(&args),

@@ -137,6 +137,15 @@ pub fn run(only: Option<&str>) -> Result<()> {
                 if stagnated > 0 {
                     cell += &format!(" ({stagnated} stagnated)");
                 }
+                let clustered = run
+                    .result
+                    .steps
+                    .iter()
+                    .filter(|s| s.recovery == tyreroad::rolling::Recovery::Clustered)
+                    .count();
+                if clustered > 0 {
+                    cell += &format!(" ({clustered} by clusters)");
+                }
                 if failed > 0 {
                     cell += &format!(" ({failed} failed)");
                 }

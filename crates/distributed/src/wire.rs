@@ -88,12 +88,13 @@ const STATUSES: [StepStatus; 3] = [
     StepStatus::Stagnated,
     StepStatus::Failed,
 ];
-const RECOVERIES: [Recovery; 5] = [
+const RECOVERIES: [Recovery; 6] = [
     Recovery::None,
     Recovery::Continuation,
     Recovery::ColdRestart,
     Recovery::DenseFallback,
     Recovery::Regularized,
+    Recovery::Clustered,
 ];
 
 fn code<T: PartialEq>(all: &[T], v: &T) -> usize {

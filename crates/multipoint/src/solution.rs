@@ -37,6 +37,12 @@ pub enum Recovery {
     /// Newton with a Levenberg–Marquardt shift of the step's matrix, after
     /// every plain run stalled.
     Regularized,
+    /// The asperities whose contact patches overlap merged into clusters,
+    /// each solved as one body ([`Solution::clusters`], docs/theory.md §3):
+    /// after every other recovery failed
+    /// ([`Clusters::OnFailure`](crate::Clusters)), or because overlaps were
+    /// found under [`Clusters::Always`](crate::Clusters).
+    Clustered,
 }
 
 /// A solved multipoint contact.
@@ -64,6 +70,12 @@ pub struct Solution {
     pub convergence: Convergence,
     /// The attempt that produced this solution.
     pub recovery: Recovery,
+    /// The clusters the solution was solved with (asperity indices, each
+    /// sorted, at least two members; empty unless
+    /// [`Recovery::Clustered`]). A cluster's members share one
+    /// interpenetration less their offsets; their forces sum to the
+    /// cluster's.
+    pub clusters: Vec<Vec<usize>>,
 }
 
 impl Solution {
@@ -93,6 +105,7 @@ impl Solution {
             residual,
             convergence: Convergence::Converged,
             recovery: Recovery::None,
+            clusters: Vec::new(),
         }
     }
 
@@ -108,6 +121,7 @@ impl Solution {
             residual: f64::NAN,
             convergence: Convergence::Converged,
             recovery: Recovery::None,
+            clusters: Vec::new(),
         }
     }
 

@@ -58,9 +58,13 @@ fn folding_layout() -> Problem<PotentialLaw<Sphere>> {
 }
 
 #[test]
-fn a_folding_load_path_still_fails_with_its_residual() {
+fn a_folding_load_path_without_clusters_still_fails_with_its_residual() {
     let problem = folding_layout();
-    match solve(&problem, Control::Load(100.0), &SolverOptions::default()) {
+    let point_only = SolverOptions {
+        clusters: Clusters::Off,
+        ..SolverOptions::default()
+    };
+    match solve(&problem, Control::Load(100.0), &point_only) {
         Err(SolveError::NotConverged { residual, .. }) => {
             assert!(residual.is_finite() && residual > 1e-8, "{residual}");
         }

@@ -426,12 +426,13 @@ fn parse_record(line: &str, sensors: usize) -> Option<StepRecord> {
     })
 }
 
-const RECOVERIES: [Recovery; 5] = [
+const RECOVERIES: [Recovery; 6] = [
     Recovery::None,
     Recovery::Continuation,
     Recovery::ColdRestart,
     Recovery::DenseFallback,
     Recovery::Regularized,
+    Recovery::Clustered,
 ];
 
 /// What a record must satisfy to be resumed: it is the step it says it is,

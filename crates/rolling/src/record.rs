@@ -37,6 +37,7 @@ pub fn recovery_name(recovery: Recovery) -> &'static str {
         Recovery::ColdRestart => "cold_restart",
         Recovery::DenseFallback => "dense_fallback",
         Recovery::Regularized => "regularized",
+        Recovery::Clustered => "clustered",
     }
 }
 

@@ -9,6 +9,7 @@
 //! kinks), `dense` (the workspace and the dense step) and `krylov_step`
 //! (the matrix-free step).
 
+mod cluster;
 mod dense;
 mod krylov_step;
 mod near;
@@ -29,7 +30,7 @@ use crate::{
 use near::NearField;
 use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
-pub use options::{Control, Interaction, LinearSolver, SolverOptions};
+pub use options::{Clusters, Control, Interaction, LinearSolver, SolverOptions};
 use options::{check_control, check_options, krylov_order, residual_options};
 use start::{coarse_start, uncoupled_start};
 use state::{Ops, Workspace};
@@ -64,6 +65,7 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
     levels: &CoarseLevels,
 ) -> Result<Solution, SolveError> {
     let result = solve_attempts(problem, control, options, initial, levels);
+    let result = cluster::refine(problem, control, options, initial, levels, result);
     if std::env::var_os("TYREROAD_PROFILE").is_some() {
         match &result {
             Ok(s) => eprintln!(

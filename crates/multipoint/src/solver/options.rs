@@ -55,6 +55,26 @@ pub enum Interaction {
     },
 }
 
+/// When asperities whose contact patches overlap are merged into one body
+/// (a cluster) and solved as such (docs/theory.md §3, "Clusters").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Clusters {
+    /// Never: the point-force model as the paper has it. A folding load
+    /// path ends in [`SolveError::NotConverged`].
+    Off,
+    /// Only when every other recovery has failed: a solve that converges
+    /// without clusters returns the same bits as with [`Self::Off`]; one that
+    /// does not is solved with its overlapping contacts merged and says so
+    /// ([`Recovery::Clustered`](crate::Recovery)).
+    #[default]
+    OnFailure,
+    /// Always: after a converged solve, overlapping contacts are merged and
+    /// the problem solved again, until no two bodies' patches overlap (the
+    /// `clustered` rung of the fidelity ladder). Without overlaps the
+    /// solution is that of [`Self::Off`].
+    Always,
+}
+
 impl Interaction {
     /// The distributed kernel with the default blend, from `2 (a_i + a_j)`
     /// to `4 (a_i + a_j)` (where `g` differs from `1/r` by ≤ 0.3 %).
@@ -125,6 +145,9 @@ pub struct SolverOptions {
     /// Krylov products and the residuals all use it; the coarse start and
     /// the Krylov preconditioner keep the point kernel (they only steer).
     pub interaction: Interaction,
+    /// When overlapping contacts are merged into clusters (see
+    /// [`Clusters`]; default [`Clusters::OnFailure`]).
+    pub clusters: Clusters,
 }
 
 /// The cluster hierarchy of the coarse start
@@ -180,6 +203,7 @@ impl Default for SolverOptions {
             fast_operator: FastOptions::default(),
             coarse_start_min_n: 4096,
             interaction: Interaction::Point,
+            clusters: Clusters::OnFailure,
         }
     }
 }
