@@ -516,6 +516,6 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod visco_tests;
-#[cfg(test)]
 mod visco_compare_tests;
+#[cfg(test)]
+mod visco_tests;
