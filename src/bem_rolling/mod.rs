@@ -60,6 +60,7 @@
 mod compare;
 mod run_scenario;
 mod visco;
+mod visco_compare;
 
 pub use compare::{
     BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
@@ -67,6 +68,7 @@ pub use compare::{
 };
 pub use run_scenario::{BemRollingRun, Stretch, run_scenario_comparison, texture_field};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
+pub use visco_compare::{ViscoBemRollingRun, run_visco_scenario_comparison};
 
 use crate::bem::{BemError, BemOptions, BemSolution, Control, Solver};
 use crate::rolling::{RollingConfig, RollingControl, Sensor, StepStatus};
@@ -513,5 +515,7 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod visco_compare_tests;
 #[cfg(test)]
 mod visco_tests;

@@ -98,36 +98,7 @@ pub fn run_scenario_comparison(
         ));
     };
     let map = texture.height_map(base_dir)?;
-    let Some(spec) = scenario.rolling.as_mut() else {
-        return Err(BemRollingError::InvalidInput(
-            "the scenario has no [rolling] section".into(),
-        ));
-    };
-    let (path_start, path_end, step) = (spec.start.value(), spec.end.value(), spec.step.value());
-    let start = stretch.start.unwrap_or(path_start);
-    if !(start >= path_start && start <= path_end) {
-        return Err(BemRollingError::InvalidInput(format!(
-            "stretch start {start} m: must lie on the path, from {path_start} m to {path_end} m"
-        )));
-    }
-    if stretch.steps == Some(0) {
-        return Err(BemRollingError::InvalidInput(
-            "steps must be >= 1, got 0".into(),
-        ));
-    }
-    let end = stretch
-        .steps
-        .map_or(path_end, |n| (start + (n - 1) as f64 * step).min(path_end));
-    spec.start = Length::si(start);
-    spec.end = Length::si(end);
-    spec.checkpoint = false;
-    if stretch.segment.is_some() {
-        spec.segment = stretch.segment;
-    }
-    let (segment, reference_force) = (
-        spec.segment,
-        spec.reference_force.map_or(1.0, |f| f.value()),
-    );
+    let (segment, reference_force) = cut_to_stretch(&mut scenario, stretch)?;
     let run_options = RunOptions {
         par: Some(par),
         ..RunOptions::new(base_dir)
@@ -208,4 +179,47 @@ fn summit_gap_run(
     };
     rolling::roll(&rolling::Road::new(set), material, config, &options)
         .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))
+}
+
+/// Cuts the scenario's `[rolling]` path to `stretch` (no checkpoint; the
+/// stretch's Welch segment, if any, replaces the scenario's) and returns the
+/// spectra's segment and reference force (N; default 1).
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] when the scenario has no `[rolling]`,
+/// or the stretch is empty or off the path.
+pub(super) fn cut_to_stretch(
+    scenario: &mut Scenario,
+    stretch: Stretch,
+) -> Result<(Option<usize>, f64), BemRollingError> {
+    let Some(spec) = scenario.rolling.as_mut() else {
+        return Err(BemRollingError::InvalidInput(
+            "the scenario has no [rolling] section".into(),
+        ));
+    };
+    let (path_start, path_end, step) = (spec.start.value(), spec.end.value(), spec.step.value());
+    let start = stretch.start.unwrap_or(path_start);
+    if !(start >= path_start && start <= path_end) {
+        return Err(BemRollingError::InvalidInput(format!(
+            "stretch start {start} m: must lie on the path, from {path_start} m to {path_end} m"
+        )));
+    }
+    if stretch.steps == Some(0) {
+        return Err(BemRollingError::InvalidInput(
+            "steps must be >= 1, got 0".into(),
+        ));
+    }
+    let end = stretch
+        .steps
+        .map_or(path_end, |n| (start + (n - 1) as f64 * step).min(path_end));
+    spec.start = Length::si(start);
+    spec.end = Length::si(end);
+    spec.checkpoint = false;
+    if stretch.segment.is_some() {
+        spec.segment = stretch.segment;
+    }
+    Ok((
+        spec.segment,
+        spec.reference_force.map_or(1.0, |f| f.value()),
+    ))
 }

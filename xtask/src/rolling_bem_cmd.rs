@@ -3,7 +3,9 @@
 //! and by the full-BEM reference (`tyreroad::bem_rolling`); prints the
 //! comparison table and writes the signals, the band levels and the charts.
 //! With `--viscoelastic` it runs the viscoelastic rolling BEM instead
-//! (`rolling_visco_bem_cmd`).
+//! (`rolling_visco_bem_cmd`); a scenario with `[material.viscoelastic]` is
+//! rolled viscoelastically by both models and compared
+//! (`rolling_visco_bem_cmd::run_comparison`), unless `--elastic`.
 
 use std::path::{Path, PathBuf};
 
@@ -46,10 +48,14 @@ pub struct RollingBemArgs {
     /// moduli instead of the multipoint comparison.
     #[arg(long)]
     pub viscoelastic: Option<String>,
-    /// Driving speed (m/s) of the viscoelastic run, instead of the
-    /// scenario's.
-    #[arg(long, requires = "viscoelastic")]
+    /// Driving speed (m/s), instead of the scenario's.
+    #[arg(long)]
     pub speed: Option<f64>,
+    /// Leave out the scenario's `[material.viscoelastic]`: compare the
+    /// elastic runs with its `[material]` (the model's own error on the
+    /// stretch of a viscoelastic comparison).
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub elastic: bool,
 }
 
 /// Runs both models, prints the table, writes the files.
@@ -57,7 +63,15 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if let Some(tread) = &args.viscoelastic {
         return crate::rolling_visco_bem_cmd::run(args, tread);
     }
-    let scenario = Scenario::from_path(&args.scenario)?;
+    let mut scenario = Scenario::from_path(&args.scenario)?;
+    if args.elastic {
+        scenario.material.viscoelastic = None;
+    } else if scenario.material.viscoelastic.is_some() {
+        return crate::rolling_visco_bem_cmd::run_comparison(args, scenario);
+    }
+    if let (Some(speed), Some(spec)) = (args.speed, scenario.rolling.as_mut()) {
+        spec.speed = tyreroad::scenario::units::Speed::si(speed);
+    }
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));
     let options = BemRollingOptions {
@@ -82,6 +96,18 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// One row of the comparison table: per-step and band errors of a signal.
+pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
+    println!(
+        "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
+        label,
+        100.0 * s.max_error,
+        100.0 * s.rms_error,
+        s.max_band_db(),
+        s.max_resolved_band_db()
+    );
 }
 
 fn print_report(name: &str, run: &BemRollingRun) {
@@ -110,16 +136,7 @@ fn print_report(name: &str, run: &BemRollingRun) {
         "{:<22} {:>12} {:>12} {:>14} {:>14}",
         "signal", "max err %", "rms err %", "max |ΔdB| all", "max |ΔdB| res."
     );
-    let row = |label: &str, s: &SignalComparison| {
-        println!(
-            "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
-            label,
-            100.0 * s.max_error,
-            100.0 * s.rms_error,
-            s.max_band_db(),
-            s.max_resolved_band_db()
-        );
-    };
+    let row = print_report_row;
     row("total force", &c.total);
     row("approach", &c.approach);
     for s in &c.sensors {

@@ -4,21 +4,203 @@
 //! tread's two limit moduli `E∞` and `E∞ + Σ E_k` on the same stretch.
 //! Prints the mean force, approach and total-force band levels of the three
 //! runs and writes their steps, sensor forces and bands.
+//!
+//! A scenario with `[material.viscoelastic]` (and no `--viscoelastic`) is
+//! rolled by both the viscoelastic multipoint model and the viscoelastic
+//! BEM ([`run_comparison`]): the comparison table of the elastic runs,
+//! per-step totals, approach and sensor forces side by side.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
 use tyreroad::bem_rolling::{
-    BemRollingOptions, BemRollingResult, Stretch, roll_bem, roll_visco_bem_scenario, texture_field,
-    third_octave_policy,
+    BemRollingOptions, BemRollingResult, Stretch, ViscoBemRollingRun, roll_bem,
+    roll_visco_bem_scenario, run_visco_scenario_comparison, texture_field, third_octave_policy,
 };
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 use tyreroad::shared::Material;
 use tyreroad::viscoelastic::{Branch, Prony};
 
-use crate::rolling_bem_cmd::RollingBemArgs;
+use crate::rolling_bem_cmd::{RollingBemArgs, print_report_row};
+
+/// Rolls the scenario's viscoelastic tread over the stretch by the
+/// multipoint model and by the viscoelastic BEM; prints the comparison,
+/// writes the steps, sensors and bands of both.
+pub fn run_comparison(args: &RollingBemArgs, scenario: Scenario) -> Result<()> {
+    let name = scenario.name.clone();
+    let base = args.scenario.parent().unwrap_or(Path::new("."));
+    let options = BemRollingOptions {
+        tolerance: args.tolerance,
+        ..BemRollingOptions::default()
+    };
+    let stretch = Stretch {
+        start: args.from,
+        steps: Some(args.steps),
+        segment: args.segment,
+    };
+    let run = run_visco_scenario_comparison(
+        scenario,
+        base,
+        stretch,
+        args.speed,
+        Par::rayon(args.threads),
+        &options,
+    )?;
+    print_comparison(&name, &run);
+    let mut set = OutputSet::new(&args.out)?;
+    write_comparison(&run, &mut set)?;
+    for path in set.commit()? {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
+    let c = &run.comparison;
+    let config = &run.multipoint.config;
+    let (nx, ny, dx) = run.road_grid;
+    println!(
+        "{name} (viscoelastic, E_inf {:.3} MPa, E_0 {:.3} MPa): {} steps at {} m/s (Δt = {:.3e} s); \
+         texture {nx} × {ny} at {:.3} mm; BEM window {} × {} cells",
+        run.tread.long_term() * 1e-6,
+        run.tread.instantaneous() * 1e-6,
+        c.steps,
+        config.speed,
+        config.step / config.speed,
+        dx * 1e3,
+        run.bem.window.0,
+        run.bem.window.1
+    );
+    println!(
+        "time: multipoint {:.1} s, BEM {:.1} s ({} CG iterations, {} failed steps); multipoint failed steps: {}",
+        run.multipoint_time.as_secs_f64(),
+        run.bem_time.as_secs_f64(),
+        run.bem.iterations(),
+        run.bem.failed(),
+        run.multipoint.result.status_counts()[2]
+    );
+    println!(
+        "mean approach: multipoint {:.5} mm, BEM {:.5} mm",
+        1e3 * mean(&run.multipoint.result.approach()),
+        1e3 * mean(&run.bem.approach())
+    );
+    println!(
+        "{:<22} {:>12} {:>12} {:>14} {:>14}",
+        "signal", "max err %", "rms err %", "max |ΔdB| all", "max |ΔdB| res."
+    );
+    print_report_row("total force", &c.total);
+    print_report_row("approach", &c.approach);
+    for s in &c.sensors {
+        print_report_row(&format!("{} (fields)", s.name), s);
+    }
+    for s in &c.sensors_summit {
+        print_report_row(&format!("{} (summits)", s.name), s);
+    }
+}
+
+/// One step of both viscoelastic runs.
+#[derive(Serialize)]
+struct ComparedStep {
+    step: usize,
+    #[serde(serialize_with = "fmt::sci9")]
+    time_s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    position_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_model_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_bem_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_model_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_bem_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_model_m2: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_bem_m2: f64,
+}
+
+/// One sensor of both viscoelastic runs at one step.
+#[derive(Serialize)]
+struct ComparedSensor<'a> {
+    step: usize,
+    sensor: &'a str,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_fields_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    bem_n: f64,
+}
+
+/// One band of one signal of both viscoelastic runs.
+#[derive(Serialize)]
+struct ComparedBand<'a> {
+    signal: &'a str,
+    band_nominal_hz: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    model_db: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    bem_db: f64,
+    #[serde(serialize_with = "fmt::fixed3")]
+    difference_db: f64,
+    resolved: bool,
+}
+
+fn write_comparison(run: &ViscoBemRollingRun, set: &mut OutputSet) -> Result<()> {
+    let mp = &run.multipoint.result;
+    let steps: Vec<ComparedStep> = mp
+        .steps
+        .iter()
+        .zip(&run.bem.steps)
+        .map(|(m, b)| ComparedStep {
+            step: m.index,
+            time_s: m.time,
+            position_m: m.position,
+            total_force_model_n: m.total_force,
+            total_force_bem_n: b.total_force,
+            approach_model_m: m.approach,
+            approach_bem_m: b.approach,
+            contact_area_model_m2: m.contact_area,
+            contact_area_bem_m2: b.contact_area,
+        })
+        .collect();
+    set.write_csv("rolling_visco_compare_steps.csv", &steps)?;
+    let mut sensors = Vec::new();
+    for (k, s) in run.multipoint.config.sensors.iter().enumerate() {
+        sensors.extend(
+            mp.steps
+                .iter()
+                .zip(&run.bem.steps)
+                .map(|(m, b)| ComparedSensor {
+                    step: m.index,
+                    sensor: &s.name,
+                    model_fields_n: m.sensor_forces[k],
+                    bem_n: b.sensor_forces[k],
+                }),
+        );
+    }
+    set.write_csv("rolling_visco_compare_sensors.csv", &sensors)?;
+    let c = &run.comparison;
+    let signals = [&c.total, &c.approach].into_iter().chain(&c.sensors);
+    let bands: Vec<ComparedBand<'_>> = signals
+        .flat_map(|s| {
+            s.bands.iter().map(|b| ComparedBand {
+                signal: &s.name,
+                band_nominal_hz: b.nominal,
+                model_db: b.model_db,
+                bem_db: b.reference_db,
+                difference_db: b.difference_db,
+                resolved: b.resolved,
+            })
+        })
+        .collect();
+    // A slow run's bands lie below 100 Hz: no table rather than an empty one.
+    if !bands.is_empty() {
+        set.write_csv("rolling_visco_compare_bands.csv", &bands)?;
+    }
+    Ok(())
+}
 
 /// The tread from `E_INF,E1@TAU1,E2@TAU2,...` (Pa and s), with the
 /// scenario's Poisson's ratio.
