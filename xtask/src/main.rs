@@ -28,6 +28,7 @@ mod converge_sweep;
 mod film_cmd;
 mod history_cmd;
 mod pressure_image;
+mod rolling_bem_args;
 mod rolling_bem_cmd;
 mod rolling_cmd;
 mod rolling_visco_bem_cmd;
@@ -94,7 +95,7 @@ enum Command {
     },
     /// Roll a texture scenario by the multipoint model and by the full BEM
     /// over the same steps; print and write the comparison.
-    RollingBem(Box<rolling_bem_cmd::RollingBemArgs>),
+    RollingBem(Box<rolling_bem_args::RollingBemArgs>),
     /// Run a parameter sweep (rayon, or MPI ranks with --mpi): one table row per run.
     Sweep(sweep_cmd::SweepArgs),
     /// Roll a scenario over MPI ranks (start with mpirun); rank 0 writes.

@@ -7,56 +7,16 @@
 //! rolled viscoelastically by both models and compared
 //! (`rolling_visco_bem_cmd::run_comparison`), unless `--elastic`.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::Result;
 use serde::Serialize;
-use tyreroad::bem_rolling::{
-    BemRollingOptions, BemRollingRun, SignalComparison, Stretch, run_scenario_comparison,
-};
+use tyreroad::bem_rolling::{BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison};
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
 use crate::charts::{Series, line_chart};
-
-/// Arguments of `rolling-bem`.
-#[derive(clap::Args)]
-pub struct RollingBemArgs {
-    /// A `[rolling]` scenario on a `[texture]`.
-    pub scenario: PathBuf,
-    /// Output directory.
-    #[arg(long, default_value = "validation/rolling_bem")]
-    pub out: PathBuf,
-    /// First footprint centre, in metres (default: the path's start).
-    #[arg(long)]
-    pub from: Option<f64>,
-    /// Steps from there (default 100; never beyond the path's end).
-    #[arg(long, default_value_t = 100)]
-    pub steps: usize,
-    /// Welch segment of both runs' spectra, in samples (default: the
-    /// scenario's `[rolling] segment`, else half the signal).
-    #[arg(long)]
-    pub segment: Option<usize>,
-    /// Threads of both runs (0: every core).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
-    /// Relative tolerance of each BEM step.
-    #[arg(long, default_value_t = 1e-7)]
-    pub tolerance: f64,
-    /// A viscoelastic tread `E_INF,E1@TAU1,E2@TAU2,...` (Pa, s): run the
-    /// viscoelastic rolling BEM and the elastic one at its two limit
-    /// moduli instead of the multipoint comparison.
-    #[arg(long)]
-    pub viscoelastic: Option<String>,
-    /// Driving speed (m/s), instead of the scenario's.
-    #[arg(long)]
-    pub speed: Option<f64>,
-    /// Leave out the scenario's `[material.viscoelastic]`: compare the
-    /// elastic runs with its `[material]` (the model's own error on the
-    /// stretch of a viscoelastic comparison).
-    #[arg(long, conflicts_with = "viscoelastic")]
-    pub elastic: bool,
-}
+use crate::rolling_bem_args::{RollingBemArgs, print_report_row};
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
@@ -96,18 +56,6 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
-}
-
-/// One row of the comparison table: per-step and band errors of a signal.
-pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
-    println!(
-        "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
-        label,
-        100.0 * s.max_error,
-        100.0 * s.rms_error,
-        s.max_band_db(),
-        s.max_resolved_band_db()
-    );
 }
 
 fn print_report(name: &str, run: &BemRollingRun) {

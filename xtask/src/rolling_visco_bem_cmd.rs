@@ -23,7 +23,7 @@ use tyreroad::scenario::{Par, Scenario};
 use tyreroad::shared::Material;
 use tyreroad::viscoelastic::{Branch, Prony};
 
-use crate::rolling_bem_cmd::{RollingBemArgs, print_report_row};
+use crate::rolling_bem_args::{RollingBemArgs, print_report_row};
 
 /// Rolls the scenario's viscoelastic tread over the stretch by the
 /// multipoint model and by the viscoelastic BEM; prints the comparison,
