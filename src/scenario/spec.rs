@@ -425,7 +425,8 @@ impl Scenario {
     }
 
     /// The `[texture]` road as rolling sees it (segmented, each asperity
-    /// with its cap's law, y centred on the path): what a rolling run on
+    /// with its cap's law, y centred on the path, each gap taken at its cap's
+    /// contact point through the summit radii): the road a rolling run on
     /// this scenario solves, built once for callers that roll it many times
     /// (`cargo xtask converge-sweep`). Relative paths resolve against
     /// `base_dir`.
@@ -433,15 +434,17 @@ impl Scenario {
     /// # Errors
     /// [`ScenarioError::Invalid`] without a `[texture]`, or any error of
     /// reading, synthesising or segmenting it.
-    pub fn texture_road_set(
+    pub fn texture_rolling_road(
         &self,
         base_dir: &Path,
-    ) -> Result<AsperitySet<crate::texture_road::TextureLaw>> {
+    ) -> Result<tyreroad_rolling::Road<crate::texture_road::TextureLaw>> {
         let texture = self
             .texture
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
-        Ok(super::texture::texture_road_set(texture, base_dir, self.material()?)?.0)
+        let (set, _, radii) =
+            super::texture::texture_road_set(texture, base_dir, self.material()?)?;
+        Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
     }
 
     /// Asperity labels, in file order.

@@ -90,7 +90,7 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
         .unwrap_or_default();
     let material = scenario.material()?;
     let t = Instant::now();
-    let road = rolling::Road::new(scenario.texture_road_set(&base)?);
+    let road = scenario.texture_rolling_road(&base)?;
     eprintln!(
         "converge-sweep: road of {} asperities built in {:.1} s",
         road.len(),
