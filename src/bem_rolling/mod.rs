@@ -58,6 +58,7 @@
 //!   tolerance ([`BemRollingOptions::tolerance`]).
 
 mod compare;
+mod refine;
 mod run_scenario;
 mod visco;
 mod visco_compare;
@@ -65,6 +66,10 @@ mod visco_compare;
 pub use compare::{
     BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
     third_octave_policy,
+};
+pub use refine::{
+    GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,
+    run_grid_convergence,
 };
 pub use run_scenario::{BemRollingRun, Stretch, run_scenario_comparison, texture_field};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
@@ -513,6 +518,8 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
     force
 }
 
+#[cfg(test)]
+mod refine_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

@@ -44,6 +44,11 @@ pub struct RollingBemArgs {
     /// stretch of a viscoelastic comparison).
     #[arg(long, conflicts_with = "viscoelastic")]
     pub elastic: bool,
+    /// Is the BEM reference converged? Solve the stretch by the BEM alone
+    /// on the texture's grid and on one this many times finer
+    /// (`rolling_bem_refine`), instead of the comparison.
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub refine: Option<usize>,
 }
 
 /// One row of the comparison table: per-step and band errors of a signal.

@@ -23,6 +23,9 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if let Some(tread) = &args.viscoelastic {
         return crate::rolling_visco_bem_cmd::run(args, tread);
     }
+    if let Some(factor) = args.refine {
+        return crate::rolling_bem_refine::run(args, factor);
+    }
     let mut scenario = Scenario::from_path(&args.scenario)?;
     if args.elastic {
         scenario.material.viscoelastic = None;
