@@ -71,7 +71,9 @@ pub use refine::{
     GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,
     run_grid_convergence,
 };
-pub use run_scenario::{BemRollingRun, Stretch, run_scenario_comparison, texture_field};
+pub use run_scenario::{
+    BemRollingRun, Stretch, run_scenario_comparison, run_scenario_comparison_against, texture_field,
+};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
 pub use visco_compare::{ViscoBemRollingRun, run_visco_scenario_comparison};
 

@@ -28,6 +28,7 @@
 
 mod calibrate;
 pub mod compare;
+pub mod rolling;
 pub mod segmentation;
 mod texture;
 
@@ -80,6 +81,9 @@ pub enum FidelityError {
     /// A multipoint solve failed.
     #[error("multipoint solve: {0}")]
     Solve(#[from] crate::multipoint::SolveError),
+    /// The rolling run that bounds a calibration's approach failed.
+    #[error("rolling run: {0}")]
+    Rolling(#[from] crate::rolling::RollingError),
 }
 
 impl FidelityError {

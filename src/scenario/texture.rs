@@ -13,7 +13,8 @@ use tyreroad_texture::HeightMap;
 use super::statics::{StaticResult, run_static_problem, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
-use crate::fidelity::{CalibrationOptions, Calibrator, LawSource, calibrated_set};
+use crate::fidelity::rolling::calibrate_rolling_road;
+use crate::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator, LawSource, calibrated_set};
 use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
@@ -210,4 +211,35 @@ pub(crate) fn texture_road_set(
             source,
         })?;
     Ok((set, summary, radii))
+}
+
+/// [`texture_road_set`] with calibrated laws, for `[model] fidelity =
+/// "calibrated"` in rolling: the asperities `config`'s path can select, in
+/// the same frame and order, each with its cap's BEM-calibrated law,
+/// calibrated once on `par`'s threads (`crate::fidelity::rolling`).
+pub(crate) fn calibrated_texture_road_set(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+    config: &tyreroad_rolling::RollingConfig,
+    par: tyreroad_multipoint::Par,
+) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
+    let map = texture.height_map(base_dir)?;
+    let road = scenario_road(&map, material, texture)?;
+    let summary = TextureSummary::new(&map, &road);
+    let radii = road.summit_radii();
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let set = road
+        .set
+        .clone()
+        .translated([0.0, -y_mid])
+        .map_err(|source| ScenarioError::Solve {
+            context: "[texture] road".into(),
+            source,
+        })?;
+    let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
+    let calibrator = Calibrator::new(material, CalibrationOptions::default());
+    let calibrated = calibrate_rolling_road(&road, &wilke, &map, config, &calibrator, par)?;
+    let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
+    Ok((calibrated.set, summary, radii))
 }

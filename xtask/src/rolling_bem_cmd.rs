@@ -11,7 +11,10 @@ use std::path::Path;
 
 use anyhow::Result;
 use serde::Serialize;
-use tyreroad::bem_rolling::{BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison};
+use tyreroad::bem_rolling::{
+    BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison_against,
+};
+use tyreroad::fidelity::Fidelity;
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
@@ -35,13 +38,33 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if let (Some(speed), Some(spec)) = (args.speed, scenario.rolling.as_mut()) {
         spec.speed = tyreroad::scenario::units::Speed::si(speed);
     }
+    if let Some(name) = &args.fidelity {
+        let fidelity: Fidelity = name.parse()?;
+        if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
+            anyhow::bail!("--fidelity {name}: rolling takes \"wilke\" or \"calibrated\"");
+        }
+        scenario.model.fidelity = Some(name.clone());
+    }
+    println!(
+        "model fidelity: {}{}",
+        scenario.model.fidelity()?,
+        if args.bem_from.is_some() {
+            "; BEM signals read back"
+        } else {
+            ""
+        }
+    );
+    let saved = match &args.bem_from {
+        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
+        None => None,
+    };
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));
     let options = BemRollingOptions {
         tolerance: args.tolerance,
         ..BemRollingOptions::default()
     };
-    let run = run_scenario_comparison(
+    let run = run_scenario_comparison_against(
         scenario,
         base,
         Stretch {
@@ -51,6 +74,7 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         },
         Par::rayon(args.threads),
         &options,
+        saved,
     )?;
     print_report(&name, &run);
     let mut set = OutputSet::new(&args.out)?;
@@ -97,28 +121,32 @@ fn print_report(name: &str, run: &BemRollingRun) {
         row(&format!("{} (summits)", s.name), s);
     }
     // The model before the contact-point gaps, against the same BEM run.
-    let g = &run.summit_gaps.1;
-    row("approach (summit gaps)", &g.approach);
-    for s in &g.sensors {
-        row(&format!("{} (summit gaps)", s.name), s);
+    // (Not run on calibrated laws: it would calibrate the road again.)
+    let g = run.summit_gaps.as_ref().map(|(_, c)| c);
+    if let Some(g) = g {
+        row("approach (summit gaps)", &g.approach);
+        for s in &g.sensors {
+            row(&format!("{} (summit gaps)", s.name), s);
+        }
     }
     println!("band levels (dB), model fields / model summits / model summit gaps / BEM:");
     for (k, s) in c.sensors.iter().enumerate() {
         let summit = &c.sensors_summit[k];
-        let gaps = &g.sensors[k];
+        let gaps = g.map(|g| &g.sensors[k].bands);
         let cells: Vec<String> = s
             .bands
             .iter()
             .zip(&summit.bands)
-            .zip(&gaps.bands)
-            .map(|((b, p), q)| {
+            .enumerate()
+            .map(|(i, (b, p))| {
+                let q = gaps.and_then(|g| g.get(i)).map_or(f64::NAN, |q| q.model_db);
                 format!(
                     "{}{:.0}: {:.1}/{:.1}/{:.1}/{:.1}",
                     if b.resolved { "" } else { "*" },
                     b.nominal,
                     b.model_db,
                     p.model_db,
-                    q.model_db,
+                    q,
                     b.reference_db
                 )
             })
@@ -202,7 +230,7 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     let summit =
         tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);
     let mut rows = Vec::new();
-    let gap_steps = &run.summit_gaps.0.steps;
+    let gap_steps: &[_] = run.summit_gaps.as_ref().map_or(&[], |(r, _)| &r.steps);
     for (k, s) in sensors.iter().enumerate() {
         for (i, (m, b)) in mp.steps.iter().zip(&run.bem.steps).enumerate() {
             rows.push(SensorRow {
@@ -231,9 +259,8 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     )
     .chain(
         run.summit_gaps
-            .1
-            .sensors
             .iter()
+            .flat_map(|(_, g)| g.sensors.iter())
             .map(|s| (s.name.as_str(), "summit gaps", s)),
     );
     for (signal, accounting, s) in labelled {
@@ -272,10 +299,12 @@ fn charts(run: &BemRollingRun, summit: &[Vec<f64>], set: &mut OutputSet) -> Resu
             label: format!("{} multipoint (summits)", s.name),
             points: pts(&mut summit[k].iter().copied()),
         });
-        signals.push(Series {
-            label: format!("{} multipoint (summit gaps)", s.name),
-            points: pts(&mut run.summit_gaps.0.steps.iter().map(|st| st.sensor_forces[k])),
-        });
+        if let Some((gaps, _)) = &run.summit_gaps {
+            signals.push(Series {
+                label: format!("{} multipoint (summit gaps)", s.name),
+                points: pts(&mut gaps.steps.iter().map(|st| st.sensor_forces[k])),
+            });
+        }
         signals.push(Series {
             label: format!("{} BEM", s.name),
             points: pts(&mut run.bem.steps.iter().map(|st| st.sensor_forces[k])),
