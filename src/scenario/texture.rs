@@ -33,6 +33,22 @@ pub struct TextureSummary {
     pub asperities: usize,
     /// Asperities the segmentation found.
     pub segmented: usize,
+    /// The calibration of a rolling run on calibrated laws (`None` on the
+    /// Wilke laws).
+    pub calibration: Option<CalibrationSummary>,
+}
+
+/// What calibrating a rolling road took (`crate::fidelity::rolling`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibrationSummary {
+    /// Asperities the path can select, each given a calibrated law.
+    pub asperities: usize,
+    /// Tables solved by the BEM (the rest were equal caps' tables).
+    pub tables: usize,
+    /// Largest approach the tables cover (m).
+    pub max_approach: f64,
+    /// Wall time of the approach bound and the calibration.
+    pub time: std::time::Duration,
 }
 
 impl TextureSummary {
@@ -44,6 +60,7 @@ impl TextureSummary {
             rms: map.rms().unwrap_or(f64::NAN),
             asperities: road.len(),
             segmented: road.segmentation.asperities().len(),
+            calibration: None,
         }
     }
 }
@@ -226,7 +243,7 @@ pub(crate) fn calibrated_texture_road_set(
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
-    let summary = TextureSummary::new(&map, &road);
+    let mut summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let set = road
@@ -241,5 +258,11 @@ pub(crate) fn calibrated_texture_road_set(
     let calibrator = Calibrator::new(material, CalibrationOptions::default());
     let calibrated = calibrate_rolling_road(&road, &wilke, &map, config, &calibrator, par)?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
+    summary.calibration = Some(CalibrationSummary {
+        asperities: calibrated.kept.len(),
+        tables: calibrated.counts.solved,
+        max_approach: calibrated.max_approach,
+        time: calibrated.time,
+    });
     Ok((calibrated.set, summary, radii))
 }

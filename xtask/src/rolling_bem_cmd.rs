@@ -103,6 +103,19 @@ fn print_report(name: &str, run: &BemRollingRun) {
         run.bem.failed(),
         run.multipoint.status_counts()[2]
     );
+    if let tyreroad::scenario::RoadSummary::Texture(t) = &run.multipoint.road
+        && let Some(cal) = &t.calibration
+    {
+        println!(
+            "calibrated laws: {} asperities ({} of the road's {}), {} tables solved, to {:.3} mm approach, {:.1} s (in the multipoint time)",
+            cal.asperities,
+            cal.asperities,
+            t.asperities,
+            cal.tables,
+            cal.max_approach * 1e3,
+            cal.time.as_secs_f64()
+        );
+    }
     println!(
         "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
         c.resolved_from
