@@ -12,7 +12,9 @@
 //!   solve of its own cap (the texture's heights on its segmentation basin,
 //!   [`calibrate`]), point coupling. The law is then exact for the asperity
 //!   alone up to the BEM's discretisation; what remains of the error is the
-//!   interaction's.
+//!   interaction's. It is also the one rung a `[rolling]` run on a texture
+//!   takes: each asperity the path can select calibrated once, reused by
+//!   every step ([`rolling`]).
 //! - `distributed`: the calibrated laws, and near pairs coupled through
 //!   their pressure fields instead of the point kernel
 //!   ([`crate::multipoint::Interaction::DISTRIBUTED`], docs/theory.md §3);
