@@ -77,7 +77,7 @@ pub fn selectable(positions: &[[f64; 2]], config: &RollingConfig) -> Vec<usize> 
         .collect()
 }
 
-/// The largest approach (m) of `road` (Wilke laws) over [`BOUND_STEPS`]
+/// The largest approach (m) of `road` (Wilke laws) over nine
 /// evenly spaced steps of `config`'s path.
 ///
 /// # Errors
