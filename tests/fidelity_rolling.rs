@@ -13,7 +13,7 @@ use tyreroad::rolling::{
     Road, RollingConfig, RollingControl, RollingResult, RunOptions, StepStatus, Tread, input_hash,
     roll,
 };
-use tyreroad::scenario::{RunOptions as ScenarioRunOptions, Scenario, ScenarioResult};
+use tyreroad::scenario::{RoadSummary, RunOptions as ScenarioRunOptions, Scenario, ScenarioResult};
 use tyreroad::texture::HeightMap;
 use tyreroad::texture_road::{TextureRoadOptions, texture_road};
 
@@ -185,5 +185,38 @@ fn a_rolling_texture_scenario_takes_calibrated_laws() -> TestResult {
         let e = Scenario::parse(&rolling_scenario(fidelity), fidelity).unwrap_err();
         assert!(e.to_string().contains("[model] fidelity"), "{e}");
     }
+    Ok(())
+}
+
+#[test]
+fn a_checkpointed_calibrated_run_keeps_its_tables_for_the_next() -> TestResult {
+    let dir = tempfile::tempdir()?;
+    let text = rolling_scenario("calibrated").replace("checkpoint = false", "checkpoint = true");
+    let s = Scenario::parse(&text, "cached")?;
+    let run = || -> Result<_, Box<dyn std::error::Error>> {
+        let options = ScenarioRunOptions {
+            checkpoint_dir: Some(dir.path().to_path_buf()),
+            ..ScenarioRunOptions::new(".")
+        };
+        let ScenarioResult::Rolling(run) = s.run(&options)? else {
+            return Err("not a rolling result".into());
+        };
+        let RoadSummary::Texture(t) = &run.road else {
+            return Err("not a texture road".into());
+        };
+        let cal = t.calibration.clone().ok_or("no calibration summary")?;
+        let approaches: Vec<f64> = run.result.steps.iter().map(|s| s.approach).collect();
+        Ok((cal, approaches))
+    };
+    let (first, a) = run()?;
+    let (second, b) = run()?;
+    assert!(first.tables > 0 && first.from_disk == 0, "{first:?}");
+    // Every table read back, none solved; the same laws, the same run.
+    assert_eq!(
+        (second.tables, second.from_disk),
+        (0, first.tables),
+        "{second:?}"
+    );
+    assert_eq!(a, b);
     Ok(())
 }

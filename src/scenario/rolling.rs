@@ -149,8 +149,21 @@ pub(crate) fn rolling_on_road(
             let par = options
                 .par
                 .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-            let (set, summary, radii) =
-                calibrated_texture_road_set(texture, &options.base_dir, material, &config, par)?;
+            // Tables are kept beside the checkpoints: a resumed or repeated
+            // run on the same road does not calibrate it again.
+            let cache = options
+                .checkpoint_dir
+                .as_deref()
+                .filter(|_| spec.checkpoint)
+                .map(|dir| dir.join("calibration"));
+            let (set, summary, radii) = calibrated_texture_road_set(
+                texture,
+                &options.base_dir,
+                material,
+                &config,
+                par,
+                cache.as_deref(),
+            )?;
             let road = rolling::Road::new(set).with_summit_radii(radii)?;
             let summary = RoadSummary::Texture(summary);
             return roll_road(scenario, &road, summary, material, spec, options, what);

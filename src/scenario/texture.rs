@@ -43,8 +43,11 @@ pub struct TextureSummary {
 pub struct CalibrationSummary {
     /// Asperities the path can select, each given a calibrated law.
     pub asperities: usize,
-    /// Tables solved by the BEM (the rest were equal caps' tables).
+    /// Tables solved by the BEM (the rest were equal caps' tables or read
+    /// from the disk cache).
     pub tables: usize,
+    /// Tables read from the disk cache.
+    pub from_disk: usize,
     /// Largest approach the tables cover (m).
     pub max_approach: f64,
     /// Wall time of the approach bound and the calibration.
@@ -233,13 +236,15 @@ pub(crate) fn texture_road_set(
 /// [`texture_road_set`] with calibrated laws, for `[model] fidelity =
 /// "calibrated"` in rolling: the asperities `config`'s path can select, in
 /// the same frame and order, each with its cap's BEM-calibrated law,
-/// calibrated once on `par`'s threads (`crate::fidelity::rolling`).
+/// calibrated once on `par`'s threads (`crate::fidelity::rolling`);
+/// tables are kept in and read back from `cache` when given.
 pub(crate) fn calibrated_texture_road_set(
     texture: &TextureSpec,
     base_dir: &Path,
     material: Material,
     config: &tyreroad_rolling::RollingConfig,
     par: tyreroad_multipoint::Par,
+    cache: Option<&Path>,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
@@ -255,12 +260,16 @@ pub(crate) fn calibrated_texture_road_set(
             source,
         })?;
     let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
-    let calibrator = Calibrator::new(material, CalibrationOptions::default());
+    let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
+    if let Some(dir) = cache {
+        calibrator = calibrator.with_disk_cache(dir);
+    }
     let calibrated = calibrate_rolling_road(&road, &wilke, &map, config, &calibrator, par)?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
     summary.calibration = Some(CalibrationSummary {
         asperities: calibrated.kept.len(),
         tables: calibrated.counts.solved,
+        from_disk: calibrated.counts.disk_hits,
         max_approach: calibrated.max_approach,
         time: calibrated.time,
     });

@@ -107,11 +107,11 @@ fn print_report(name: &str, run: &BemRollingRun) {
         && let Some(cal) = &t.calibration
     {
         println!(
-            "calibrated laws: {} asperities ({} of the road's {}), {} tables solved, to {:.3} mm approach, {:.1} s (in the multipoint time)",
-            cal.asperities,
+            "calibrated laws: {} of the road's {} asperities, {} tables solved ({} read from disk), to {:.3} mm approach, {:.1} s (in the multipoint time)",
             cal.asperities,
             t.asperities,
             cal.tables,
+            cal.from_disk,
             cal.max_approach * 1e3,
             cal.time.as_secs_f64()
         );
