@@ -58,6 +58,7 @@
 //!   tolerance ([`BemRollingOptions::tolerance`]).
 
 mod compare;
+mod refine;
 mod run_scenario;
 mod visco;
 mod visco_compare;
@@ -66,7 +67,13 @@ pub use compare::{
     BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
     third_octave_policy,
 };
-pub use run_scenario::{BemRollingRun, Stretch, run_scenario_comparison, texture_field};
+pub use refine::{
+    GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,
+    run_grid_convergence,
+};
+pub use run_scenario::{
+    BemRollingRun, Stretch, run_scenario_comparison, run_scenario_comparison_against, texture_field,
+};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
 pub use visco_compare::{ViscoBemRollingRun, run_visco_scenario_comparison};
 
@@ -513,6 +520,8 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
     force
 }
 
+#[cfg(test)]
+mod refine_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

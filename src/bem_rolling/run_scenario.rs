@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use crate::fidelity::Fidelity;
 use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
 use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult};
@@ -33,8 +34,10 @@ pub struct BemRollingRun {
     /// The same multipoint run with the tread gaps measured at the summits
     /// (the model before the contact-point gaps,
     /// [`crate::rolling::Tread::contact_gap`]) and its comparison with the
-    /// same BEM run: what the contact-point gaps change.
-    pub summit_gaps: (RollingResult, RollingComparison),
+    /// same BEM run: what the contact-point gaps change. `None` on
+    /// calibrated laws (`[model] fidelity = "calibrated"`: a second run
+    /// would calibrate the road again).
+    pub summit_gaps: Option<(RollingResult, RollingComparison)>,
 }
 
 /// The texture's height map in the road frame of a scenario's rolling run:
@@ -86,11 +89,31 @@ pub struct Stretch {
 /// or no `[texture]`, or the stretch is empty or off the path; [`BemRollingError::Scenario`] when
 /// the multipoint run fails; the errors of [`roll_bem`] and [`compare`].
 pub fn run_scenario_comparison(
+    scenario: Scenario,
+    base_dir: &Path,
+    stretch: Stretch,
+    par: Par,
+    options: &BemRollingOptions,
+) -> Result<BemRollingRun, BemRollingError> {
+    run_scenario_comparison_against(scenario, base_dir, stretch, par, options, None)
+}
+
+/// [`run_scenario_comparison`] against `saved`, a BEM run of the same
+/// stretch saved earlier (the BEM reference does not depend on the model's
+/// laws: one BEM run serves every fidelity), or against a new BEM run when
+/// `None`; `bem_time` is then zero.
+///
+/// # Errors
+/// As [`run_scenario_comparison`]; [`BemRollingError::InvalidInput`] when
+/// `saved` has other steps (count or footprint positions, to 1 nm) or
+/// sensors than the stretch.
+pub fn run_scenario_comparison_against(
     mut scenario: Scenario,
     base_dir: &Path,
     stretch: Stretch,
     par: Par,
     options: &BemRollingOptions,
+    saved: Option<BemRollingResult>,
 ) -> Result<BemRollingRun, BemRollingError> {
     let Some(texture) = scenario.texture.as_ref() else {
         return Err(BemRollingError::InvalidInput(
@@ -113,15 +136,18 @@ pub fn run_scenario_comparison(
     let config: &RollingConfig = &multipoint.config;
     let road = texture_field(&map)?;
     let clock = Instant::now();
-    let bem = roll_bem(
-        &road,
-        scenario.material()?,
-        config,
-        &BemRollingOptions {
-            par,
-            ..options.clone()
-        },
-    )?;
+    let bem = match saved {
+        Some(saved) => same_stretch(saved, config, &multipoint.result)?,
+        None => roll_bem(
+            &road,
+            scenario.material()?,
+            config,
+            &BemRollingOptions {
+                par,
+                ..options.clone()
+            },
+        )?,
+    };
     let bem_time = clock.elapsed();
     let comparison = compare(
         &multipoint.result,
@@ -131,15 +157,20 @@ pub fn run_scenario_comparison(
         reference_force,
         segment,
     )?;
-    let summit_result = summit_gap_run(&scenario, &map, config, par)?;
-    let summit_comparison = compare(
-        &summit_result,
-        &multipoint.road_positions,
-        &config.sensors,
-        &bem,
-        reference_force,
-        segment,
-    )?;
+    let summit_gaps = if scenario.model.fidelity()? == Fidelity::Wilke {
+        let summit_result = summit_gap_run(&scenario, &map, config, par)?;
+        let summit_comparison = compare(
+            &summit_result,
+            &multipoint.road_positions,
+            &config.sensors,
+            &bem,
+            reference_force,
+            segment,
+        )?;
+        Some((summit_result, summit_comparison))
+    } else {
+        None
+    };
     Ok(BemRollingRun {
         multipoint: *multipoint,
         bem,
@@ -147,7 +178,7 @@ pub fn run_scenario_comparison(
         multipoint_time,
         bem_time,
         road_grid: (map.nx(), map.ny(), map.dx()),
-        summit_gaps: (summit_result, summit_comparison),
+        summit_gaps,
     })
 }
 
@@ -222,4 +253,32 @@ pub(super) fn cut_to_stretch(
         spec.segment,
         spec.reference_force.map_or(1.0, |f| f.value()),
     ))
+}
+
+/// `saved` if it holds the steps of `run` (count and footprint positions,
+/// to 1 nm) and a force for each of `config`'s sensors.
+fn same_stretch(
+    saved: BemRollingResult,
+    config: &RollingConfig,
+    run: &RollingResult,
+) -> Result<BemRollingResult, BemRollingError> {
+    let (n, m) = (saved.steps.len(), run.steps.len());
+    if n != m {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the saved BEM run has {n} steps, the stretch {m}"
+        )));
+    }
+    for (b, s) in saved.steps.iter().zip(&run.steps) {
+        if (b.position - s.position).abs() > 1e-9 || b.sensor_forces.len() != config.sensors.len() {
+            return Err(BemRollingError::InvalidInput(format!(
+                "saved BEM step {} (x = {} m, {} sensors): the stretch's is at x = {} m with {} sensors",
+                b.index,
+                b.position,
+                b.sensor_forces.len(),
+                s.position,
+                config.sensors.len()
+            )));
+        }
+    }
+    Ok(saved)
 }

@@ -12,7 +12,9 @@
 //!   solve of its own cap (the texture's heights on its segmentation basin,
 //!   [`calibrate`]), point coupling. The law is then exact for the asperity
 //!   alone up to the BEM's discretisation; what remains of the error is the
-//!   interaction's.
+//!   interaction's. It is also the one rung a `[rolling]` run on a texture
+//!   takes: each asperity the path can select calibrated once, reused by
+//!   every step ([`rolling`]).
 //! - `distributed`: the calibrated laws, and near pairs coupled through
 //!   their pressure fields instead of the point kernel
 //!   ([`crate::multipoint::Interaction::DISTRIBUTED`], docs/theory.md §3);
@@ -28,6 +30,7 @@
 
 mod calibrate;
 pub mod compare;
+pub mod rolling;
 pub mod segmentation;
 mod texture;
 
@@ -80,6 +83,9 @@ pub enum FidelityError {
     /// A multipoint solve failed.
     #[error("multipoint solve: {0}")]
     Solve(#[from] crate::multipoint::SolveError),
+    /// The rolling run that bounds a calibration's approach failed.
+    #[error("rolling run: {0}")]
+    Rolling(#[from] crate::rolling::RollingError),
 }
 
 impl FidelityError {

@@ -102,6 +102,30 @@ pub fn calibrated_set(
     max_approach: f64,
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
+    let all: Vec<usize> = (0..road.len()).collect();
+    let laws = calibrated_laws(road, map, max_approach, calibrator, &all)?;
+    AsperitySet::new(
+        road.set.positions().to_vec(),
+        road.set.heights().to_vec(),
+        laws,
+    )
+    .map_err(FidelityError::Solve)
+}
+
+/// The calibrated laws of the road's asperities `indices` (indices into
+/// `road.set`), tabulated as in [`calibrated_set`], in parallel on rayon's
+/// current pool.
+///
+/// # Errors
+/// As [`calibrated_set`]; [`FidelityError::InvalidInput`] for an index out
+/// of the road.
+pub(crate) fn calibrated_laws(
+    road: &TextureRoad,
+    map: &HeightMap,
+    max_approach: f64,
+    calibrator: &Calibrator,
+    indices: &[usize],
+) -> Result<Vec<CalibratedLaw>, FidelityError> {
     if road.segmentation.size() != (map.nx(), map.ny()) {
         return Err(FidelityError::invalid(
             "height map",
@@ -117,11 +141,17 @@ pub fn calibrated_set(
         ));
     }
     let top = road.set.top();
-    let laws = road
-        .asperity_index
+    indices
         .par_iter()
-        .zip(road.set.heights().par_iter())
-        .map(|(&k, &z)| {
+        .map(|&i| {
+            let (Some(&k), Some(&z)) = (road.asperity_index.get(i), road.set.heights().get(i))
+            else {
+                return Err(FidelityError::invalid(
+                    "asperity index",
+                    i,
+                    format!("below the road's {} asperities", road.len()),
+                ));
+            };
             let a = &road.segmentation.asperities()[k];
             let depth = (max_approach - (top - z)).max(0.1 * max_approach);
             let patch = cap_patch(map, a, depth)?;
@@ -130,11 +160,5 @@ pub fn calibrated_set(
             let depth = depth.max(2.0 * patch.summit_offset());
             calibrator.law(&patch, depth)
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    AsperitySet::new(
-        road.set.positions().to_vec(),
-        road.set.heights().to_vec(),
-        laws,
-    )
-    .map_err(FidelityError::Solve)
+        .collect()
 }

@@ -547,11 +547,22 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
-    if fidelity != Fidelity::Wilke && !static_texture {
+    // Rolling on a texture takes calibrated laws with point coupling
+    // (crate::fidelity::rolling); the coupled rungs are static only.
+    let rolling_texture = scenario.texture.is_some() && scenario.rolling.is_some();
+    let allowed = fidelity == Fidelity::Wilke
+        || static_texture
+        || (rolling_texture && fidelity == Fidelity::Calibrated);
+    if !allowed {
+        let expected = if rolling_texture {
+            "\"wilke\" or \"calibrated\" in a [rolling] run on a [texture]"
+        } else {
+            "\"wilke\" here: calibrated laws are built for a [texture] scenario"
+        };
         return Err(bad(
             "[model] fidelity",
             format!("{:?}", fidelity.name()),
-            "\"wilke\" here: calibrated laws are built for a static [texture] scenario",
+            expected,
         ));
     }
     Ok(())

@@ -52,7 +52,7 @@ pub use spec::{
 pub use statics::{
     LoadRun, StaticResult, StaticRow, StaticSolve, loads, run_static, run_static_problem,
 };
-pub use texture::{TextureLoad, TextureResult, TextureSummary};
+pub use texture::{CalibrationSummary, TextureLoad, TextureResult, TextureSummary};
 pub use tyreroad_multipoint::Par;
 pub use tyreroad_rolling::{Progress, ProgressFn};
 pub use visco::{

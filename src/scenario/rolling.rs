@@ -9,8 +9,9 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
-use super::texture::{TextureSummary, texture_road_set};
+use super::texture::{TextureSummary, calibrated_texture_road_set, texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::fidelity::Fidelity;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,6 +142,32 @@ pub(crate) fn rolling_on_road(
 ) -> Result<Rolled, ScenarioError> {
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
+        // `[model] fidelity = "calibrated"`: the same road with each
+        // selectable cap's BEM-calibrated law (crate::fidelity::rolling).
+        if scenario.model.fidelity()? == Fidelity::Calibrated {
+            let config = scenario.rolling_config()?;
+            let par = options
+                .par
+                .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+            // Tables are kept beside the checkpoints: a resumed or repeated
+            // run on the same road does not calibrate it again.
+            let cache = options
+                .checkpoint_dir
+                .as_deref()
+                .filter(|_| spec.checkpoint)
+                .map(|dir| dir.join("calibration"));
+            let (set, summary, radii) = calibrated_texture_road_set(
+                texture,
+                &options.base_dir,
+                material,
+                &config,
+                par,
+                cache.as_deref(),
+            )?;
+            let road = rolling::Road::new(set).with_summit_radii(radii)?;
+            let summary = RoadSummary::Texture(summary);
+            return roll_road(scenario, &road, summary, material, spec, options, what);
+        }
         let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
         let road = rolling::Road::new(set).with_summit_radii(radii)?;

@@ -13,7 +13,8 @@ use tyreroad_texture::HeightMap;
 use super::statics::{StaticResult, run_static_problem, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
-use crate::fidelity::{CalibrationOptions, Calibrator, LawSource, calibrated_set};
+use crate::fidelity::rolling::calibrate_rolling_road;
+use crate::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator, LawSource, calibrated_set};
 use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
@@ -32,6 +33,25 @@ pub struct TextureSummary {
     pub asperities: usize,
     /// Asperities the segmentation found.
     pub segmented: usize,
+    /// The calibration of a rolling run on calibrated laws (`None` on the
+    /// Wilke laws).
+    pub calibration: Option<CalibrationSummary>,
+}
+
+/// What calibrating a rolling road took (`crate::fidelity::rolling`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibrationSummary {
+    /// Asperities the path can select, each given a calibrated law.
+    pub asperities: usize,
+    /// Tables solved by the BEM (the rest were equal caps' tables or read
+    /// from the disk cache).
+    pub tables: usize,
+    /// Tables read from the disk cache.
+    pub from_disk: usize,
+    /// Largest approach the tables cover (m).
+    pub max_approach: f64,
+    /// Wall time of the approach bound and the calibration.
+    pub time: std::time::Duration,
 }
 
 impl TextureSummary {
@@ -43,6 +63,7 @@ impl TextureSummary {
             rms: map.rms().unwrap_or(f64::NAN),
             asperities: road.len(),
             segmented: road.segmentation.asperities().len(),
+            calibration: None,
         }
     }
 }
@@ -210,4 +231,47 @@ pub(crate) fn texture_road_set(
             source,
         })?;
     Ok((set, summary, radii))
+}
+
+/// [`texture_road_set`] with calibrated laws, for `[model] fidelity =
+/// "calibrated"` in rolling: the asperities `config`'s path can select, in
+/// the same frame and order, each with its cap's BEM-calibrated law,
+/// calibrated once on `par`'s threads (`crate::fidelity::rolling`);
+/// tables are kept in and read back from `cache` when given.
+pub(crate) fn calibrated_texture_road_set(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+    config: &tyreroad_rolling::RollingConfig,
+    par: tyreroad_multipoint::Par,
+    cache: Option<&Path>,
+) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
+    let map = texture.height_map(base_dir)?;
+    let road = scenario_road(&map, material, texture)?;
+    let mut summary = TextureSummary::new(&map, &road);
+    let radii = road.summit_radii();
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let set = road
+        .set
+        .clone()
+        .translated([0.0, -y_mid])
+        .map_err(|source| ScenarioError::Solve {
+            context: "[texture] road".into(),
+            source,
+        })?;
+    let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
+    let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
+    if let Some(dir) = cache {
+        calibrator = calibrator.with_disk_cache(dir);
+    }
+    let calibrated = calibrate_rolling_road(&road, &wilke, &map, config, &calibrator, par)?;
+    let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
+    summary.calibration = Some(CalibrationSummary {
+        asperities: calibrated.kept.len(),
+        tables: calibrated.counts.solved,
+        from_disk: calibrated.counts.disk_hits,
+        max_approach: calibrated.max_approach,
+        time: calibrated.time,
+    });
+    Ok((calibrated.set, summary, radii))
 }

@@ -30,6 +30,8 @@ mod history_cmd;
 mod pressure_image;
 mod rolling_bem_args;
 mod rolling_bem_cmd;
+mod rolling_bem_refine;
+mod rolling_bem_saved;
 mod rolling_cmd;
 mod rolling_visco_bem_cmd;
 mod statics;

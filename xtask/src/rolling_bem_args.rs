@@ -44,6 +44,20 @@ pub struct RollingBemArgs {
     /// stretch of a viscoelastic comparison).
     #[arg(long, conflicts_with = "viscoelastic")]
     pub elastic: bool,
+    /// Is the BEM reference converged? Solve the stretch by the BEM alone
+    /// on the texture's grid and on one this many times finer
+    /// (`rolling_bem_refine`), instead of the comparison.
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub refine: Option<usize>,
+    /// The model's fidelity (`wilke` or `calibrated`), instead of the
+    /// scenario's `[model] fidelity`.
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub fidelity: Option<String>,
+    /// Compare against the BEM signals an earlier `rolling-bem` run of the
+    /// same stretch wrote to this directory instead of solving the BEM
+    /// again.
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub bem_from: Option<PathBuf>,
 }
 
 /// One row of the comparison table: per-step and band errors of a signal.

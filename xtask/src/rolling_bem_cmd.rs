@@ -11,7 +11,10 @@ use std::path::Path;
 
 use anyhow::Result;
 use serde::Serialize;
-use tyreroad::bem_rolling::{BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison};
+use tyreroad::bem_rolling::{
+    BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison_against,
+};
+use tyreroad::fidelity::Fidelity;
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
@@ -23,6 +26,9 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if let Some(tread) = &args.viscoelastic {
         return crate::rolling_visco_bem_cmd::run(args, tread);
     }
+    if let Some(factor) = args.refine {
+        return crate::rolling_bem_refine::run(args, factor);
+    }
     let mut scenario = Scenario::from_path(&args.scenario)?;
     if args.elastic {
         scenario.material.viscoelastic = None;
@@ -32,13 +38,33 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if let (Some(speed), Some(spec)) = (args.speed, scenario.rolling.as_mut()) {
         spec.speed = tyreroad::scenario::units::Speed::si(speed);
     }
+    if let Some(name) = &args.fidelity {
+        let fidelity: Fidelity = name.parse()?;
+        if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
+            anyhow::bail!("--fidelity {name}: rolling takes \"wilke\" or \"calibrated\"");
+        }
+        scenario.model.fidelity = Some(name.clone());
+    }
+    println!(
+        "model fidelity: {}{}",
+        scenario.model.fidelity()?,
+        if args.bem_from.is_some() {
+            "; BEM signals read back"
+        } else {
+            ""
+        }
+    );
+    let saved = match &args.bem_from {
+        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
+        None => None,
+    };
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));
     let options = BemRollingOptions {
         tolerance: args.tolerance,
         ..BemRollingOptions::default()
     };
-    let run = run_scenario_comparison(
+    let run = run_scenario_comparison_against(
         scenario,
         base,
         Stretch {
@@ -48,6 +74,7 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         },
         Par::rayon(args.threads),
         &options,
+        saved,
     )?;
     print_report(&name, &run);
     let mut set = OutputSet::new(&args.out)?;
@@ -76,6 +103,19 @@ fn print_report(name: &str, run: &BemRollingRun) {
         run.bem.failed(),
         run.multipoint.status_counts()[2]
     );
+    if let tyreroad::scenario::RoadSummary::Texture(t) = &run.multipoint.road
+        && let Some(cal) = &t.calibration
+    {
+        println!(
+            "calibrated laws: {} of the road's {} asperities, {} tables solved ({} read from disk), to {:.3} mm approach, {:.1} s (in the multipoint time)",
+            cal.asperities,
+            t.asperities,
+            cal.tables,
+            cal.from_disk,
+            cal.max_approach * 1e3,
+            cal.time.as_secs_f64()
+        );
+    }
     println!(
         "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
         c.resolved_from
@@ -94,28 +134,32 @@ fn print_report(name: &str, run: &BemRollingRun) {
         row(&format!("{} (summits)", s.name), s);
     }
     // The model before the contact-point gaps, against the same BEM run.
-    let g = &run.summit_gaps.1;
-    row("approach (summit gaps)", &g.approach);
-    for s in &g.sensors {
-        row(&format!("{} (summit gaps)", s.name), s);
+    // (Not run on calibrated laws: it would calibrate the road again.)
+    let g = run.summit_gaps.as_ref().map(|(_, c)| c);
+    if let Some(g) = g {
+        row("approach (summit gaps)", &g.approach);
+        for s in &g.sensors {
+            row(&format!("{} (summit gaps)", s.name), s);
+        }
     }
     println!("band levels (dB), model fields / model summits / model summit gaps / BEM:");
     for (k, s) in c.sensors.iter().enumerate() {
         let summit = &c.sensors_summit[k];
-        let gaps = &g.sensors[k];
+        let gaps = g.map(|g| &g.sensors[k].bands);
         let cells: Vec<String> = s
             .bands
             .iter()
             .zip(&summit.bands)
-            .zip(&gaps.bands)
-            .map(|((b, p), q)| {
+            .enumerate()
+            .map(|(i, (b, p))| {
+                let q = gaps.and_then(|g| g.get(i)).map_or(f64::NAN, |q| q.model_db);
                 format!(
                     "{}{:.0}: {:.1}/{:.1}/{:.1}/{:.1}",
                     if b.resolved { "" } else { "*" },
                     b.nominal,
                     b.model_db,
                     p.model_db,
-                    q.model_db,
+                    q,
                     b.reference_db
                 )
             })
@@ -199,7 +243,7 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     let summit =
         tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);
     let mut rows = Vec::new();
-    let gap_steps = &run.summit_gaps.0.steps;
+    let gap_steps: &[_] = run.summit_gaps.as_ref().map_or(&[], |(r, _)| &r.steps);
     for (k, s) in sensors.iter().enumerate() {
         for (i, (m, b)) in mp.steps.iter().zip(&run.bem.steps).enumerate() {
             rows.push(SensorRow {
@@ -228,9 +272,8 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     )
     .chain(
         run.summit_gaps
-            .1
-            .sensors
             .iter()
+            .flat_map(|(_, g)| g.sensors.iter())
             .map(|s| (s.name.as_str(), "summit gaps", s)),
     );
     for (signal, accounting, s) in labelled {
@@ -269,10 +312,12 @@ fn charts(run: &BemRollingRun, summit: &[Vec<f64>], set: &mut OutputSet) -> Resu
             label: format!("{} multipoint (summits)", s.name),
             points: pts(&mut summit[k].iter().copied()),
         });
-        signals.push(Series {
-            label: format!("{} multipoint (summit gaps)", s.name),
-            points: pts(&mut run.summit_gaps.0.steps.iter().map(|st| st.sensor_forces[k])),
-        });
+        if let Some((gaps, _)) = &run.summit_gaps {
+            signals.push(Series {
+                label: format!("{} multipoint (summit gaps)", s.name),
+                points: pts(&mut gaps.steps.iter().map(|st| st.sensor_forces[k])),
+            });
+        }
         signals.push(Series {
             label: format!("{} BEM", s.name),
             points: pts(&mut run.bem.steps.iter().map(|st| st.sensor_forces[k])),

@@ -69,6 +69,17 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
         RoadSummary::Synthetic { count } => println!("synthetic road: {count} spherical summits"),
         RoadSummary::Asperities { .. } => {}
     }
+    if let RoadSummary::Texture(t) = &run.road
+        && let Some(cal) = &t.calibration
+    {
+        println!(
+            "calibrated laws: {} asperities the path can select, {} tables solved, {} read from disk, {:.1} s",
+            cal.asperities,
+            cal.tables,
+            cal.from_disk,
+            cal.time.as_secs_f64()
+        );
+    }
     let result = &run.result;
     let total = result.steps.len();
     if result.resumed > 0 {

@@ -1,0 +1,158 @@
+//! Calibrated laws in rolling: one calibration per road, reused by every
+//! step (docs/validation.md, "Calibrated laws in rolling").
+//!
+//! A rolling run on a texture selects, at footprint centre `(x_c, y_c)`,
+//! the asperities with `|x − x_c| ≤ L/2 + m`, `|y − y_c| ≤ W/2 + m`
+//! (`m` the tread's effective margin). Over the path `x_c ∈ [start, end]`,
+//! `y_c = lateral`, only the asperities in the swept rectangle can ever be
+//! selected ([`selectable`]); they are calibrated once, each cap by a
+//! single-asperity BEM solve ([`super::Calibrator`], equal caps sharing one
+//! table).
+//!
+//! The tables must cover the depths in use. At approach `δ0` (below the
+//! road's highest summit `z_top`) asperity `i` is pressed at most
+//! `δ0 − (z_top − z_i)` deep (the tread's profile `s ≥ 0` only lowers it),
+//! so tabulating every cap to `margin × max δ0` covers the run; `max δ0` is
+//! bounded by a Wilke run on a few evenly spaced steps of the same path
+//! ([`approach_bound`]), and beyond its table a calibrated law continues
+//! linearly, so a deeper step still solves.
+//!
+//! Invariants: the calibrated road keeps the Wilke road's positions,
+//! heights and order for the asperities it keeps (`kept[i]` is asperity
+//! `i`'s index in the texture road); the laws differ, so the rolling
+//! checkpoint key (which probes each law) differs and a resume cannot mix
+//! the rungs.
+
+use std::time::{Duration, Instant};
+
+use super::compare::APPROACH_MARGIN;
+use super::texture::calibrated_laws;
+use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError};
+use crate::multipoint::AsperitySet;
+use crate::rolling::{self, RollingConfig, StepStatus};
+use crate::shared::{Material, Par, run_at};
+use crate::texture::HeightMap;
+use crate::texture_road::{TextureLaw, TextureRoad};
+
+/// Steps of the Wilke run that bounds the approach: the path's ends and
+/// evenly spaced steps between.
+const BOUND_STEPS: usize = 9;
+
+/// A texture road with calibrated laws for a rolling path.
+#[derive(Debug)]
+pub struct RollingCalibration {
+    /// The selectable asperities with their calibrated laws, in the rolling
+    /// frame (road order).
+    pub set: AsperitySet<CalibratedLaw>,
+    /// Index in the texture road of each asperity of `set`.
+    pub kept: Vec<usize>,
+    /// Largest approach (m) the tables cover.
+    pub max_approach: f64,
+    /// Tables solved, and found in the calibrator's caches.
+    pub counts: CacheCounts,
+    /// Wall time of the approach bound and the calibration.
+    pub time: Duration,
+}
+
+/// Indices of the `positions` (rolling frame, m) that `config`'s footprints
+/// can select anywhere on its path.
+pub fn selectable(positions: &[[f64; 2]], config: &RollingConfig) -> Vec<usize> {
+    let (hx, hy) = config.tread.half_extents();
+    let m = config.tread.effective_margin(config.margin);
+    // The selection's own inclusive comparisons, with room for rounding.
+    let slack = 1e-9 * (hx + hy);
+    let (x0, x1) = (
+        config.start.min(config.end) - hx - m - slack,
+        config.start.max(config.end) + hx + m + slack,
+    );
+    let (y0, y1) = (
+        config.lateral - hy - m - slack,
+        config.lateral + hy + m + slack,
+    );
+    positions
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1)
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The largest approach (m) of `road` (Wilke laws) over nine
+/// evenly spaced steps of `config`'s path.
+///
+/// # Errors
+/// [`FidelityError::Rolling`] when the run fails; [`FidelityError::InvalidInput`]
+/// when no step converges.
+pub fn approach_bound(
+    road: &rolling::Road<TextureLaw>,
+    material: Material,
+    config: &RollingConfig,
+    par: Par,
+) -> Result<f64, FidelityError> {
+    let mut coarse = config.clone();
+    coarse.sensors.clear();
+    let span = (config.end - config.start).abs();
+    coarse.step = config.step.max(span / (BOUND_STEPS - 1) as f64);
+    let options = rolling::RunOptions {
+        par,
+        ..rolling::RunOptions::default()
+    };
+    let run = rolling::roll(road, material, &coarse, &options)?;
+    let bound = run
+        .steps
+        .iter()
+        .filter(|s| s.status != StepStatus::Failed)
+        .map(|s| s.approach)
+        .fold(f64::NAN, f64::max);
+    if bound.is_finite() && bound > 0.0 {
+        Ok(bound)
+    } else {
+        Err(FidelityError::invalid(
+            "rolling approach bound",
+            bound,
+            "a converged Wilke step with a positive approach on the path",
+        ))
+    }
+}
+
+/// Calibrates the asperities of `road` that `config`'s path can select.
+/// `wilke` is the same road in the rolling frame with its Wilke laws (and
+/// summit radii, as the run uses them): it bounds the approach. `map` is the
+/// segmented height map. The calibration runs on `par`'s threads.
+///
+/// # Errors
+/// Those of [`approach_bound`] and of the calibration
+/// ([`super::calibrated_set`]).
+pub fn calibrate_rolling_road(
+    road: &TextureRoad,
+    wilke: &rolling::Road<TextureLaw>,
+    map: &HeightMap,
+    config: &RollingConfig,
+    calibrator: &Calibrator,
+    par: Par,
+) -> Result<RollingCalibration, FidelityError> {
+    let clock = Instant::now();
+    let max_approach =
+        APPROACH_MARGIN * approach_bound(wilke, *calibrator.material(), config, par)?;
+    let kept = selectable(wilke.positions(), config);
+    if kept.is_empty() {
+        return Err(FidelityError::invalid(
+            "rolling path",
+            format!("x from {} m to {} m", config.start, config.end),
+            "a path whose footprints cover at least one asperity",
+        ));
+    }
+    let laws = run_at(par, || {
+        calibrated_laws(road, map, max_approach, calibrator, &kept)
+    })?;
+    let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
+    let heights = kept.iter().map(|&i| wilke.heights()[i]).collect();
+    let set = AsperitySet::new(positions, heights, laws)?;
+    Ok(RollingCalibration {
+        set,
+        kept,
+        max_approach,
+        counts: calibrator.counts(),
+        time: clock.elapsed(),
+    })
+}

@@ -1,0 +1,222 @@
+//! Calibrated laws in rolling (`tyreroad::fidelity::rolling`): on a small
+//! road of paraboloid caps, where Hertz's law is exact, the calibrated road
+//! rolls like the Hertz road (closer than the Wilke road), and the
+//! checkpoint key tells the calibrated and Wilke roads apart. And `[model] fidelity = "calibrated"` in a
+//! rolling scenario on a texture.
+#![allow(clippy::unwrap_used)]
+
+use tyreroad::contact_law::{ContactLaw, HertzLaw, Material};
+use tyreroad::fidelity::rolling::{calibrate_rolling_road, selectable};
+use tyreroad::fidelity::{CalibrationOptions, Calibrator};
+use tyreroad::multipoint::AsperitySet;
+use tyreroad::rolling::{
+    Road, RollingConfig, RollingControl, RollingResult, RunOptions, StepStatus, Tread, input_hash,
+    roll,
+};
+use tyreroad::scenario::{RoadSummary, RunOptions as ScenarioRunOptions, Scenario, ScenarioResult};
+use tyreroad::texture::HeightMap;
+use tyreroad::texture_road::{TextureRoadOptions, texture_road};
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+const R: f64 = 5e-3;
+const LOAD: f64 = 3.0;
+
+fn material() -> Material {
+    Material::new(6.54e6, 0.5).unwrap()
+}
+
+/// Three paraboloid caps `R` = 5 mm at x = 6, 18, 30 mm (y = 6 mm), summits
+/// 1.5 mm, 1.45 mm and 1.5 mm above a plane, on a 36 × 12 mm map of 0.1 mm
+/// cells (summits on nodes).
+fn caps() -> HeightMap {
+    let summits = [(6e-3, 1.5e-3), (18e-3, 1.45e-3), (30e-3, 1.5e-3)];
+    HeightMap::from_fn(361, 121, 1e-4, 1e-4, move |x, y| {
+        summits
+            .iter()
+            .map(|&(cx, top)| top - ((x - cx).powi(2) + (y - 6e-3).powi(2)) / (2.0 * R))
+            .fold(0.0, f64::max)
+    })
+    .unwrap()
+}
+
+/// A flat 14 × 10 mm block at x = 11, 12, 13 mm: it selects the first two
+/// caps only.
+fn config() -> RollingConfig {
+    let block = Tread::Block {
+        length: 14e-3,
+        width: 10e-3,
+    };
+    RollingConfig::new(
+        block,
+        [11e-3, 13e-3, 1e-3],
+        10.0,
+        RollingControl::Load(LOAD),
+    )
+}
+
+fn converged(run: &RollingResult) {
+    for s in &run.steps {
+        assert_ne!(s.status, StepStatus::Failed, "step {}", s.index);
+        assert!(
+            (s.total_force - LOAD).abs() < 1e-9 * LOAD,
+            "{}",
+            s.total_force
+        );
+    }
+}
+
+#[test]
+fn calibrated_caps_roll_like_hertz_and_key_their_own_checkpoints() -> TestResult {
+    let m = material();
+    let map = caps();
+    let road = texture_road(&map, m, &TextureRoadOptions::new(0.1e-3, 1e-6))?;
+    assert_eq!(road.len(), 3);
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let radii = road.summit_radii();
+    let wilke =
+        Road::new(road.set.clone().translated([0.0, -y_mid])?).with_summit_radii(radii.clone())?;
+    let config = config();
+    // Road order is highest summit first: the caps at x = 6 and 18 mm,
+    // wherever they sit in it.
+    let first_two: Vec<usize> = (0..3)
+        .filter(|&i| wilke.positions()[i][0] < 20e-3)
+        .collect();
+    assert_eq!(first_two.len(), 2);
+    assert_eq!(selectable(wilke.positions(), &config), first_two);
+
+    let calibrator = Calibrator::new(m, CalibrationOptions::default());
+    let par = tyreroad::shared::Par::Seq;
+    let calibrated = calibrate_rolling_road(&road, &wilke, &map, &config, &calibrator, par)?;
+    assert_eq!(calibrated.kept, first_two);
+    let kept_positions: Vec<[f64; 2]> = first_two.iter().map(|&i| wilke.positions()[i]).collect();
+    let kept_heights: Vec<f64> = first_two.iter().map(|&i| wilke.heights()[i]).collect();
+    assert_eq!(calibrated.set.positions(), &kept_positions[..]);
+    // One table per selectable cap (the lower one is tabulated over
+    // another depth range, so it is another table), none for the third.
+    let counts = calibrator.counts();
+    assert_eq!(counts.solved + counts.memory_hits, 2, "{counts:?}");
+    // Each calibrated law is Hertz's to the BEM's discretisation (8–12
+    // cells per contact radius at these depths; measured within 0.06 %)
+    // from 30 % of the tabulated range.
+    let hertz = HertzLaw::new(R, m)?;
+    let law = &calibrated.set.laws()[0];
+    let depth = calibrated.max_approach;
+    for d in [0.3 * depth, 0.6 * depth, depth] {
+        let (p, h) = (law.force(d), hertz.force(d));
+        assert!((p - h).abs() < 0.02 * h, "δ = {d}: {p} vs Hertz {h}");
+    }
+
+    // The three roads over the same path: the calibrated one rolls like
+    // the Hertz road (the exact law of a paraboloid), the Wilke one less so.
+    let kept_radii: Vec<f64> = calibrated.kept.iter().map(|&i| radii[i]).collect();
+    let cal_road = Road::new(calibrated.set).with_summit_radii(kept_radii.clone())?;
+    let hertz_set = AsperitySet::new(kept_positions, kept_heights, vec![hertz; 2])?;
+    let hertz_road = Road::new(hertz_set).with_summit_radii(kept_radii)?;
+    let options = RunOptions::default();
+    let run_cal = roll(&cal_road, m, &config, &options)?;
+    let run_wilke = roll(&wilke, m, &config, &options)?;
+    let run_hertz = roll(&hertz_road, m, &config, &options)?;
+    for run in [&run_cal, &run_wilke, &run_hertz] {
+        converged(run);
+    }
+    let error = |run: &RollingResult| {
+        run.steps
+            .iter()
+            .zip(&run_hertz.steps)
+            .map(|(s, h)| (s.approach - h.approach).abs() / h.approach)
+            .fold(0.0, f64::max)
+    };
+    let (cal_error, wilke_error) = (error(&run_cal), error(&run_wilke));
+    // Measured: 0.034 % (calibrated) and 0.079 % (Wilke, whose constant
+    // was fitted to spheres).
+    assert!(cal_error < 0.002, "calibrated {cal_error}");
+    assert!(
+        wilke_error > 1.5 * cal_error,
+        "Wilke {wilke_error}, calibrated {cal_error}"
+    );
+    // The checkpoint key probes the laws: a Wilke checkpoint cannot resume
+    // a calibrated run.
+    assert_ne!(
+        input_hash(&wilke, &m, &config),
+        input_hash(&cal_road, &m, &config)
+    );
+    Ok(())
+}
+
+/// A rolling scenario on a 30 × 20 mm aggregate texture (4/6 chippings,
+/// 0.2 mm cells), a flat 20 × 16 mm block across it for eight steps.
+fn rolling_scenario(fidelity: &str) -> String {
+    format!(
+        "name = \"r\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+         [model]\nfidelity = \"{fidelity}\"\n\
+         [rolling]\nstart = \"13 mm\"\nend = \"16.5 mm\"\nstep = \"0.5 mm\"\nspeed = \"10 m/s\"\n\
+         checkpoint = false\nthreads = 1\n\
+         [rolling.tread]\nkind = \"block\"\nlength = \"20 mm\"\nwidth = \"16 mm\"\n\
+         [rolling.control]\nload = \"5 N\"\n\
+         [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
+         [texture.synth]\nkind = \"aggregate\"\nnx = 150\nny = 100\nspacing = \"0.2 mm\"\n\
+         grading = \"4/6\"\nseed = 2006\n"
+    )
+}
+
+fn approaches(fidelity: &str) -> Result<Vec<f64>, Box<dyn std::error::Error>> {
+    let s = Scenario::parse(&rolling_scenario(fidelity), fidelity)?;
+    let ScenarioResult::Rolling(run) = s.run(&ScenarioRunOptions::new("."))? else {
+        return Err("not a rolling result".into());
+    };
+    assert_eq!(run.status_counts()[2], 0, "{fidelity}: failed steps");
+    Ok(run.result.steps.iter().map(|s| s.approach).collect())
+}
+
+#[test]
+fn a_rolling_texture_scenario_takes_calibrated_laws() -> TestResult {
+    let wilke = approaches("wilke")?;
+    let calibrated = approaches("calibrated")?;
+    assert_eq!(wilke.len(), 8);
+    assert_eq!(calibrated.len(), 8);
+    // Other laws, another approach at every step (measured 2.4 % deeper).
+    for (w, c) in wilke.iter().zip(&calibrated) {
+        assert!(c.is_finite() && *c > 0.0);
+        assert!((w - c).abs() > 1e-3 * w, "{w} vs {c}");
+    }
+    // The coupled rungs stay static-only: a named error.
+    for fidelity in ["distributed", "clustered"] {
+        let e = Scenario::parse(&rolling_scenario(fidelity), fidelity).unwrap_err();
+        assert!(e.to_string().contains("[model] fidelity"), "{e}");
+    }
+    Ok(())
+}
+
+#[test]
+fn a_checkpointed_calibrated_run_keeps_its_tables_for_the_next() -> TestResult {
+    let dir = tempfile::tempdir()?;
+    let text = rolling_scenario("calibrated").replace("checkpoint = false", "checkpoint = true");
+    let s = Scenario::parse(&text, "cached")?;
+    let run = || -> Result<_, Box<dyn std::error::Error>> {
+        let options = ScenarioRunOptions {
+            checkpoint_dir: Some(dir.path().to_path_buf()),
+            ..ScenarioRunOptions::new(".")
+        };
+        let ScenarioResult::Rolling(run) = s.run(&options)? else {
+            return Err("not a rolling result".into());
+        };
+        let RoadSummary::Texture(t) = &run.road else {
+            return Err("not a texture road".into());
+        };
+        let cal = t.calibration.clone().ok_or("no calibration summary")?;
+        let approaches: Vec<f64> = run.result.steps.iter().map(|s| s.approach).collect();
+        Ok((cal, approaches))
+    };
+    let (first, a) = run()?;
+    let (second, b) = run()?;
+    assert!(first.tables > 0 && first.from_disk == 0, "{first:?}");
+    // Every table read back, none solved; the same laws, the same run.
+    assert_eq!(
+        (second.tables, second.from_disk),
+        (0, first.tables),
+        "{second:?}"
+    );
+    assert_eq!(a, b);
+    Ok(())
+}
