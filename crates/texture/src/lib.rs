@@ -121,6 +121,7 @@ pub mod indicators;
 pub mod io;
 pub mod roads;
 pub mod segment;
+pub mod segment_window;
 pub mod synth;
 
 pub use error::TextureError;
@@ -136,4 +137,5 @@ pub use segment::{
     Asperity, CapOptions, GridCap, SegmentOptions, Segmentation, SummitFit, UNLABELLED,
     asperity_cap, segment,
 };
+pub use segment_window::{WindowFrame, WindowSegmentation, segment_window};
 pub use synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine};
