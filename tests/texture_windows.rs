@@ -77,7 +77,13 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
         assert_eq!(npy.segmented(), built.segmentation.asperities().len());
         assert_eq!(npy.top().to_bits(), whole.top().to_bits());
         assert_eq!(npy.digest(), whole.digest());
-        for range in [[0.0, 0.07], [0.1, 0.25], [0.12, 0.128], [0.31, 0.4], [0.38, 0.5]] {
+        for range in [
+            [0.0, 0.07],
+            [0.1, 0.25],
+            [0.12, 0.128],
+            [0.31, 0.4],
+            [0.38, 0.5],
+        ] {
             let w = npy.window(range).unwrap();
             assert!(w.is_window());
             assert_eq!(w.global_len(), whole.len());
@@ -86,7 +92,10 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
             for l in 0..w.len() {
                 let g = w.global_id(l);
                 let (p, q) = (w.positions()[l], whole.positions()[g]);
-                assert_eq!([p[0].to_bits(), p[1].to_bits()], [q[0].to_bits(), q[1].to_bits()]);
+                assert_eq!(
+                    [p[0].to_bits(), p[1].to_bits()],
+                    [q[0].to_bits(), q[1].to_bits()]
+                );
                 assert_eq!(w.heights()[l].to_bits(), whole.heights()[g].to_bits());
                 assert_eq!(w.laws()[l].geometry(), whole.laws()[g].geometry());
                 for d in [1e-7, 1e-5, 3e-4, 2e-3] {
@@ -94,7 +103,10 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
                     assert_eq!(a.force.to_bits(), b.force.to_bits());
                     assert_eq!(a.stiffness.to_bits(), b.stiffness.to_bits());
                 }
-                assert_eq!(w.summit_radius(l).to_bits(), whole.summit_radius(g).to_bits());
+                assert_eq!(
+                    w.summit_radius(l).to_bits(),
+                    whole.summit_radius(g).to_bits()
+                );
             }
             // Every whole-road asperity in the range is in the window.
             let inside = |r: &Road<_>| {
@@ -124,8 +136,12 @@ fn compare(a: &RollingResult, b: &RollingResult) -> f64 {
             (x.contact_area, y.contact_area),
         ]
         .into_iter()
-        .chain(x.sensor_forces.iter().copied().zip(y.sensor_forces.iter().copied()))
-        {
+        .chain(
+            x.sensor_forces
+                .iter()
+                .copied()
+                .zip(y.sensor_forces.iter().copied()),
+        ) {
             worst = worst.max((u - v).abs() / u.abs().max(v.abs()).max(1e-300));
         }
     }
@@ -178,7 +194,13 @@ min_area = "1 mm2"
         panic!("not a rolling scenario");
     };
     let total = scenario.rolling_steps().unwrap();
-    assert!(single.result.steps.iter().all(|s| !s.contact_ids.is_empty()));
+    assert!(
+        single
+            .result
+            .steps
+            .iter()
+            .all(|s| !s.contact_ids.is_empty())
+    );
     for ranks in [2, 3] {
         let mut steps = Vec::new();
         for rank in 0..ranks {
@@ -199,7 +221,10 @@ min_area = "1 mm2"
         };
         let (a, b) = (levels(&run.spectra), levels(&single.spectra));
         assert_eq!(a.len(), b.len());
-        assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= 1e-9), "{a:?} {b:?}");
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= 1e-9),
+            "{a:?} {b:?}"
+        );
         assert_eq!(run.road_positions, single.road_positions);
     }
 }

@@ -10,8 +10,8 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::texture::{TextureSummary, texture_road_set};
-use crate::texture_road::window::NpyTextureRoad;
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::texture_road::window::NpyTextureRoad;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -365,8 +365,15 @@ fn roll_part_on_windows<L: ContactLaw + Sync>(
             steps: piece,
             warmup,
         };
-        let Rolled::Part(rolled) =
-            roll_road(scenario, &road, summary.clone(), material, spec, options, what)?
+        let Rolled::Part(rolled) = roll_road(
+            scenario,
+            &road,
+            summary.clone(),
+            material,
+            spec,
+            options,
+            what,
+        )?
         else {
             return Err(ScenarioError::Invalid("a part gave a whole run".into()));
         };

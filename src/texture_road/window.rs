@@ -207,7 +207,10 @@ impl NpyTextureRoad {
     /// # Errors
     /// [`TextureRoadError::InvalidInput`] for a range off the map or
     /// holding no asperity; as [`NpyTextureRoad::open`] for the file.
-    pub fn window(&self, [x0, x1]: [f64; 2]) -> Result<rolling::Road<TextureLaw>, TextureRoadError> {
+    pub fn window(
+        &self,
+        [x0, x1]: [f64; 2],
+    ) -> Result<rolling::Road<TextureLaw>, TextureRoadError> {
         let dx = self.spacing.0;
         let nx = self.layout.nx;
         // A summit lies within 1.5 cells of its grid point (the fit's
@@ -288,7 +291,10 @@ impl NpyTextureRoad {
             }
         }
         let (_, k) = best.ok_or_else(|| {
-            TextureError::NotEnoughData(format!("{}: the map has no valid point", self.path.display()))
+            TextureError::NotEnoughData(format!(
+                "{}: the map has no valid point",
+                self.path.display()
+            ))
         })?;
         Ok((k % nx, k / nx))
     }

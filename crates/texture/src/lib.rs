@@ -92,6 +92,13 @@
 //! contact law starts as Hertz does on a smooth summit instead of as a
 //! pyramid.
 //!
+//! Windows ([`segment_window()`]): a window of columns of a larger map
+//! segmented on its own, each basin flagged **certified** when it is
+//! provably the whole map's (same cells, summit, size and kept flag at every
+//! step of the flood; uncertainty starts at the cut columns and spreads only
+//! where a merge could differ). A certified asperity's cells, fit and cap
+//! are the whole map's bit for bit; positions are in the whole map's frame.
+//!
 //! # Example
 //!
 //! ```

@@ -225,7 +225,7 @@ pub(crate) fn flood(
         basin_cells.entry(r).or_default().push(k);
     }
     let highest = highest.unwrap_or(Some(order[0]));
-    if let Some(t) = taint.as_deref_mut() {
+    if let Some(t) = taint {
         t.finish(|p| find(&mut parent, p));
     }
     let mut basins: Vec<(usize, Vec<usize>)> = Vec::new();

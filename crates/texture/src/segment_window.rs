@@ -198,7 +198,9 @@ impl WindowSegmentation {
     /// Whether every whole-map asperity whose summit point lies in the
     /// whole-map columns `columns` is a certified asperity of the window.
     pub fn certifies(&self, columns: Range<usize>) -> bool {
-        let from = self.uncertain_columns.partition_point(|&c| c < columns.start);
+        let from = self
+            .uncertain_columns
+            .partition_point(|&c| c < columns.start);
         self.uncertain_columns
             .get(from)
             .is_none_or(|&c| c >= columns.end)
@@ -243,7 +245,13 @@ pub fn segment_window(
     let (fi, fj) = frame.whole_first;
     let highest = (fi >= frame.first_column && fi < end && fj < ny)
         .then(|| fj * nx + fi - frame.first_column);
-    let segmentation = flood(map, opts, frame.first_column, Some(highest), Some(&mut taint))?;
+    let segmentation = flood(
+        map,
+        opts,
+        frame.first_column,
+        Some(highest),
+        Some(&mut taint),
+    )?;
     let certified = segmentation
         .asperities()
         .iter()

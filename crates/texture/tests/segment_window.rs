@@ -40,7 +40,11 @@ fn rough_map(nx: usize, ny: usize, seed: u64) -> HeightMap {
                 }
             }
             let z = z + 20e-6 * (2.0 * rng.random::<f64>() - 1.0);
-            h.push(if rng.random::<f64>() < 0.002 { f64::NAN } else { z });
+            h.push(if rng.random::<f64>() < 0.002 {
+                f64::NAN
+            } else {
+                z
+            });
         }
     }
     HeightMap::from_nan_heights(nx, ny, DX, DX, h).unwrap()
@@ -127,7 +131,11 @@ fn certified_windows_are_the_whole_maps_asperities() {
             min_area: 1e-6,
         };
         let whole = segment(&map, &opts).unwrap();
-        assert!(whole.asperities().len() > 50, "{}", whole.asperities().len());
+        assert!(
+            whole.asperities().len() > 50,
+            "{}",
+            whole.asperities().len()
+        );
         let first = first_point(&map);
         let tile = 150;
         let (mut found, mut grown, mut widest) = (0, 0, 0);
