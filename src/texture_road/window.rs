@@ -143,7 +143,9 @@ impl NpyTextureRoad {
             segmented += (0..win.segmentation.asperities().len())
                 .filter(|&k| win.is_certified(k) && in_columns(&win, k, &own))
                 .count();
-            for b in road.build(&win, &map, &own)? {
+            // Each law is probed and dropped as it is built: a tile's laws
+            // are never held at once.
+            road.build(&win, &map, &own, |b| {
                 all.push(Digested {
                     key: b.key,
                     position: [b.position[0] + 0.0, b.position[1] + y_shift],
@@ -151,7 +153,7 @@ impl NpyTextureRoad {
                     radius: b.radius,
                     probed: rolling::RoadDigest::probe(&b.law),
                 });
-            }
+            })?;
         }
         if all.is_empty() {
             return Err(TextureRoadError::NoAsperity { segmented });
@@ -224,7 +226,8 @@ impl NpyTextureRoad {
         }
         let own = from as usize..to as usize;
         let (win, map) = self.certified(&own)?;
-        let mut built = self.build(&win, &map, &own)?;
+        let mut built = Vec::new();
+        self.build(&win, &map, &own, |b| built.push(b))?;
         built.sort_by(|a, b| order(&a.key, &b.key));
         if built.is_empty() {
             return Err(TextureRoadError::InvalidInput(format!(
@@ -254,7 +257,8 @@ impl NpyTextureRoad {
             laws.push(b.law);
             radii.push(b.radius);
         }
-        let invalid = |e: &dyn std::fmt::Display| TextureRoadError::InvalidInput(e.to_string());
+        let invalid =
+            |e: &dyn std::fmt::Display| TextureRoadError::InvalidInput(format!("road window: {e}"));
         let set = AsperitySet::new(positions, heights, laws)
             .and_then(|s| s.translated([0.0, -self.y_mid()]))
             .map_err(|e| invalid(&e))?;
@@ -329,15 +333,16 @@ impl NpyTextureRoad {
     }
 
     /// The laws of the certified asperities of `win` whose summit point
-    /// lies in the columns `own`, as [`super::texture_road`] builds them.
+    /// lies in the columns `own`, as [`super::texture_road`] builds them,
+    /// each given to `sink` as it is built.
     fn build(
         &self,
         win: &WindowSegmentation,
         map: &crate::texture::HeightMap,
         own: &Range<usize>,
-    ) -> Result<Vec<Built>, TextureRoadError> {
+        mut sink: impl FnMut(Built),
+    ) -> Result<(), TextureRoadError> {
         let seg = &win.segmentation;
-        let mut out = Vec::new();
         for (k, a) in seg.asperities().iter().enumerate() {
             if !(win.is_certified(k) && in_columns(win, k, own)) {
                 continue;
@@ -366,7 +371,7 @@ impl NpyTextureRoad {
             let (i, j) = a.summit_cell;
             let grid = map.get(i, j).unwrap_or(f64::NAN);
             let radius = equivalent_radius(a, &law);
-            out.push(Built {
+            sink(Built {
                 key: (grid, index),
                 position: a.summit,
                 height: a.summit_height,
@@ -374,7 +379,7 @@ impl NpyTextureRoad {
                 radius,
             });
         }
-        Ok(out)
+        Ok(())
     }
 }
 

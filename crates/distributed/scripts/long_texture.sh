@@ -74,7 +74,7 @@ y1 = "10 mm"
 
 [texture]
 file = "$base.npy"
-min_prominence = "0.1 mm"
-min_area = "1 mm2"
+min_prominence = "0.2 mm"
+min_area = "4 mm2"
 TOML
 echo "wrote $out and $npy: $(python3 -c "import numpy as np; a = np.load('$npy', mmap_mode='r'); print(a.shape)") points (ny, nx)"

@@ -175,7 +175,9 @@ fn certified_windows_are_the_whole_maps_asperities() {
              widest window {widest} of {nx} columns",
             whole.asperities().len()
         );
-        // Windows stay local: none needed a large part of the map.
+        // Some windows had to grow (the retry is exercised), and they stay
+        // local: none needed a large part of the map.
+        assert!(grown > 0);
         assert!(widest < nx / 2, "widest window {widest} of {nx}");
     }
 }
