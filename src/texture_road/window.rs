@@ -5,7 +5,7 @@
 //! tile of columns at a time: the first finds the map's first point (its
 //! highest, ties by index: the segmentation always keeps its basin); the
 //! second segments each tile with a halo
-//! ([`crate::texture::segment_window`]), doubling the halo until every
+//! ([`crate::texture::segment_window()`]), doubling the halo until every
 //! summit candidate of the tile is certified, and builds the law of each
 //! asperity whose summit lies in the tile, exactly as [`super::texture_road`]
 //! does on the whole map. Of each asperity it keeps its order key (grid
