@@ -36,6 +36,8 @@ use crate::texture::{
 };
 use crate::two_scale::LocalShape;
 
+pub mod window;
+
 /// The contact law of one texture asperity.
 pub type TextureLaw = PotentialLaw<Arc<TabulatedCap>>;
 
@@ -196,7 +198,7 @@ pub fn texture_road(
 }
 
 /// Summit height minus the lowest valid point of the basin, if positive.
-fn basin_depth(map: &HeightMap, a: &Asperity) -> Option<f64> {
+pub(crate) fn basin_depth(map: &HeightMap, a: &Asperity) -> Option<f64> {
     let low = a
         .cells
         .iter()
@@ -284,7 +286,7 @@ impl TextureRoad {
 /// radius `Σ(δ)/(2πδ)` of the cap at a quarter of its depth range: a
 /// flat-topped or blunt chipping has a sharp-looking summit fit but spreads
 /// its contact like a far larger sphere.
-fn equivalent_radius(a: &Asperity, law: &TextureLaw) -> f64 {
+pub(crate) fn equivalent_radius(a: &Asperity, law: &TextureLaw) -> f64 {
     let d = 0.25 * law.geometry().max_depth();
     let secant = law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d);
     match a.fit {

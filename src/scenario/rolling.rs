@@ -2,7 +2,7 @@
 //! synthetic road of spheres), the run, and the spectra of its signals
 //! (docs/rolling.md).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use tyreroad_contact_law::{ContactLaw, Material};
@@ -12,6 +12,7 @@ use tyreroad_rolling as rolling;
 use super::texture::{TextureSummary, calibrated_texture_road_set, texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::fidelity::Fidelity;
+use crate::texture_road::window::NpyTextureRoad;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -168,6 +169,23 @@ pub(crate) fn rolling_on_road(
             let summary = RoadSummary::Texture(summary);
             return roll_road(scenario, &road, summary, material, spec, options, what);
         }
+        // A rank's part on a `.npy` texture: windows of the file, the same
+        // asperities by the same ids as the whole road's (other formats,
+        // and calibrated laws above, are read whole: docs/distributed.md,
+        // "Memory per rank").
+        if let (What::Part { steps, warmup }, Some(path)) = (&what, npy_file(texture, options)) {
+            let road = NpyTextureRoad::open(&path, material, &texture.road_options())?;
+            let summary = RoadSummary::Asperities { count: road.len() };
+            return roll_part_on_windows(
+                scenario,
+                material,
+                spec,
+                options,
+                (steps.clone(), *warmup),
+                summary,
+                |range| Ok(road.window(range)?),
+            );
+        }
         let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
         let road = rolling::Road::new(set).with_summit_radii(radii)?;
@@ -202,7 +220,19 @@ pub(crate) fn rolling_on_road(
                 // touch, the same summits by the same ids as the whole
                 // road's (docs/distributed.md, "Memory per rank").
                 What::Part { steps, warmup } => {
-                    roll_synthetic_part(scenario, &synth, material, spec, options, steps, warmup)
+                    let windows = synth.windows(material)?;
+                    let summary = RoadSummary::Synthetic {
+                        count: windows.count(),
+                    };
+                    roll_part_on_windows(
+                        scenario,
+                        material,
+                        spec,
+                        options,
+                        (steps, warmup),
+                        summary,
+                        |range| Ok(windows.window(range)?),
+                    )
                 }
                 // Records rolled elsewhere: the outputs need the summits'
                 // positions and heights, not their laws.
@@ -327,36 +357,51 @@ fn roll_road<L: ContactLaw + Sync>(
 /// piece costs memory and a shorter one time.
 const WINDOW_PATH: f64 = 1.0;
 
-/// One rank's part on a synthetic road: the part cut into pieces of
-/// [`WINDOW_PATH`], each rolled (with its `warmup` steps) on the window of
-/// the road its footprints select from, built from the keep decisions
-/// found once for the whole road.
-fn roll_synthetic_part(
+/// The `[texture] file` when it is a `.npy` map (read by windows), else
+/// `None` (read whole).
+fn npy_file(texture: &super::TextureSpec, options: &RunOptions<'_>) -> Option<PathBuf> {
+    let file = texture.file.as_ref()?;
+    let path = options.base_dir.join(file);
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
+        .then_some(path)
+}
+
+/// One rank's part on a road read by windows (a synthetic road, a `.npy`
+/// texture): the part cut into pieces of [`WINDOW_PATH`], each rolled (with
+/// its `warmup` steps) on the window of the road its footprints select
+/// from. `summary` only labels the pieces' runs: a part's records carry
+/// none.
+fn roll_part_on_windows<L: ContactLaw + Sync>(
     scenario: &Scenario,
-    synth: &rolling::SyntheticRoad,
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
-    steps: std::ops::Range<usize>,
-    warmup: usize,
+    (steps, warmup): (std::ops::Range<usize>, usize),
+    summary: RoadSummary,
+    mut window: impl FnMut([f64; 2]) -> Result<rolling::Road<L>, ScenarioError>,
 ) -> Result<Rolled, ScenarioError> {
     let config = scenario.rolling_config()?;
-    let windows = synth.windows(material)?;
-    let count = windows.count();
     let per_window = ((WINDOW_PATH / config.step).floor() as usize).max(1);
     let mut part: Option<rolling::RollingResult> = None;
     let mut start = steps.start;
     while start < steps.end {
         let piece = start..(start + per_window).min(steps.end);
         start = piece.end;
-        let road = windows.window(part_window(&config, &piece, warmup))?;
+        let road = window(part_window(&config, &piece, warmup))?;
         let what = What::Part {
             steps: piece,
             warmup,
         };
-        let summary = RoadSummary::Synthetic { count };
-        let Rolled::Part(rolled) =
-            roll_road(scenario, &road, summary, material, spec, options, what)?
+        let Rolled::Part(rolled) = roll_road(
+            scenario,
+            &road,
+            summary.clone(),
+            material,
+            spec,
+            options,
+            what,
+        )?
         else {
             return Err(ScenarioError::Invalid("a part gave a whole run".into()));
         };

@@ -4,6 +4,8 @@
 #   cargo build --release -p xtask --features mpi
 #   crates/distributed/scripts/measure_rss.sh "0.5 2 10" "1 2 3" /tmp/rss
 # Prints one line per run and rank: length_m ranks rank peak_rss_kib wall_s.
+# ROAD_SCRIPT=long_texture.sh measures a .npy texture road instead (read by
+# windows) of the synthetic sphere road.
 set -euo pipefail
 lengths=${1:-"0.5 2 10"}
 ranks_list=${2:-"1 2 3"}
@@ -14,7 +16,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 RAYON_NUM_THREA
 mkdir -p "$work"
 echo "# $(uptime)"
 for length in $lengths; do
-  "$here/crates/distributed/scripts/long_road.sh" "$length" "$work/road_${length}m.toml" >/dev/null
+  "$here/crates/distributed/scripts/${ROAD_SCRIPT:-long_road.sh}" "$length" "$work/road_${length}m.toml" >/dev/null
   for ranks in $ranks_list; do
     out="$work/out_${length}m_np${ranks}"
     rm -rf "$out" "$work"/time_${length}_${ranks}_*

@@ -144,14 +144,34 @@ impl RoadDigest {
 
     /// The next asperity (by id): summit position (m), height (m), law.
     pub fn push<L: ContactLaw>(&mut self, position: [f64; 2], height: f64, law: &L) {
+        self.push_probed(position, height, &Self::probe(law));
+    }
+
+    /// What the digest reads of a law: force and stiffness at a few
+    /// approaches, so that a road built piece by piece (a texture read by
+    /// windows) can keep 80 B per asperity and fold them in id order later.
+    pub fn probe<L: ContactLaw>(law: &L) -> [(f64, f64); PROBES.len()] {
+        PROBES.map(|d| {
+            let l = law.evaluate(d);
+            (l.force, l.stiffness)
+        })
+    }
+
+    /// [`RoadDigest::push`] with the law already probed
+    /// ([`RoadDigest::probe`]).
+    pub fn push_probed(
+        &mut self,
+        position: [f64; 2],
+        height: f64,
+        probed: &[(f64, f64); PROBES.len()],
+    ) {
         let h = &mut self.0;
         h.f(position[0]);
         h.f(position[1]);
         h.f(height);
-        for d in PROBES {
-            let l = law.evaluate(d);
-            h.f(l.force);
-            h.f(l.stiffness);
+        for &(force, stiffness) in probed {
+            h.f(force);
+            h.f(stiffness);
         }
     }
 

@@ -156,25 +156,28 @@ impl<L> Road<L> {
                 "summit radii on a road window: give them to the whole road".into(),
             ));
         }
-        if radii.len() != self.set.len() {
-            return Err(RollingError::InvalidInput(format!(
-                "summit radii: {} given for {} asperities",
-                radii.len(),
-                self.set.len()
-            )));
-        }
-        if let Some((i, r)) = radii
-            .iter()
-            .enumerate()
-            .find(|(_, r)| !(r.is_finite() && **r > 0.0))
-        {
-            return Err(RollingError::InvalidInput(format!(
-                "summit radius of asperity {i}: expected finite and > 0 m, got {r}"
-            )));
-        }
+        check_radii(&radii, self.set.len())?;
         self.summit_radii = Some(radii);
         // The radii change the gaps, so they are part of the checkpoint key.
         self.digest = OnceLock::new();
+        Ok(self)
+    }
+
+    /// A window with each asperity's summit curvature radius (m, by local
+    /// index): the window's digest, given when it was cut, already holds
+    /// the whole road's radii ([`RoadDigest::summit_radii`]), so it is kept.
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] if this is not a window, the count
+    /// differs from the window's, or a radius is not finite and positive.
+    pub fn window_with_summit_radii(mut self, radii: Vec<f64>) -> Result<Self, RollingError> {
+        if !self.is_window() {
+            return Err(RollingError::InvalidInput(
+                "window_with_summit_radii on a whole road: use with_summit_radii".into(),
+            ));
+        }
+        check_radii(&radii, self.set.len())?;
+        self.summit_radii = Some(radii);
         Ok(self)
     }
 
@@ -245,6 +248,26 @@ impl<L> Road<L> {
                 .filter(|&i| (y0..=y1).contains(&self.set.positions()[i][1])),
         );
     }
+}
+
+/// One finite, positive radius per asperity.
+fn check_radii(radii: &[f64], len: usize) -> Result<(), RollingError> {
+    if radii.len() != len {
+        return Err(RollingError::InvalidInput(format!(
+            "summit radii: {} given for {len} asperities",
+            radii.len()
+        )));
+    }
+    if let Some((i, r)) = radii
+        .iter()
+        .enumerate()
+        .find(|(_, r)| !(r.is_finite() && **r > 0.0))
+    {
+        return Err(RollingError::InvalidInput(format!(
+            "summit radius of asperity {i}: expected finite and > 0 m, got {r}"
+        )));
+    }
+    Ok(())
 }
 
 impl<L: ContactLaw> Road<L> {

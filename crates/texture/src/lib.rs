@@ -92,6 +92,13 @@
 //! contact law starts as Hertz does on a smooth summit instead of as a
 //! pyramid.
 //!
+//! Windows ([`segment_window()`]): a window of columns of a larger map
+//! segmented on its own, each basin flagged **certified** when it is
+//! provably the whole map's (same cells, summit, size and kept flag at every
+//! step of the flood; uncertainty starts at the cut columns and spreads only
+//! where a merge could differ). A certified asperity's cells, fit and cap
+//! are the whole map's bit for bit; positions are in the whole map's frame.
+//!
 //! # Example
 //!
 //! ```
@@ -121,6 +128,7 @@ pub mod indicators;
 pub mod io;
 pub mod roads;
 pub mod segment;
+pub mod segment_window;
 pub mod synth;
 
 pub use error::TextureError;
@@ -136,4 +144,5 @@ pub use segment::{
     Asperity, CapOptions, GridCap, SegmentOptions, Segmentation, SummitFit, UNLABELLED,
     asperity_cap, segment,
 };
+pub use segment_window::{WindowFrame, WindowSegmentation, segment_window};
 pub use synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine};

@@ -9,6 +9,7 @@ use tyreroad_core::validate;
 
 use crate::error::TextureError;
 use crate::heightmap::HeightMap;
+use crate::segment_window::Taint;
 
 /// Label of a grid point that belongs to no asperity (invalid points, and
 /// points of rejected islands).
@@ -67,6 +68,9 @@ pub struct Asperity {
 pub struct Segmentation {
     nx: usize,
     ny: usize,
+    /// Column of the whole map at this map's column 0 (0 unless a window of
+    /// a larger map was segmented): positions are the whole map's.
+    pub(crate) origin: usize,
     labels: Vec<u32>,
     asperities: Vec<Asperity>,
 }
@@ -114,6 +118,21 @@ fn find(parent: &mut [usize], mut k: usize) -> usize {
 ///
 /// Each kept asperity then gets its summit paraboloid ([`SummitFit`]).
 pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, TextureError> {
+    flood(map, opts, 0, None, None)
+}
+
+/// [`segment`] on a map whose column 0 is the whole map's column `origin`;
+/// `highest`: `None` for a whole map (its first point is the highest
+/// basin's summit), `Some(p)` for a window, `p` the whole map's first point
+/// if the window holds it. With `taint`, each union–find root's certainty
+/// is tracked (crate::segment_window).
+pub(crate) fn flood(
+    map: &HeightMap,
+    opts: &SegmentOptions,
+    origin: usize,
+    highest: Option<Option<usize>>,
+    mut taint: Option<&mut Taint>,
+) -> Result<Segmentation, TextureError> {
     validate::finite("min_prominence", opts.min_prominence)?;
     validate::finite("min_area", opts.min_area)?;
     let (nx, ny) = (map.nx(), map.ny());
@@ -134,9 +153,12 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
     let mut kept = vec![false; n];
     let mut prominence = vec![f64::NAN; n];
     let mut roots: Vec<usize> = Vec::with_capacity(8);
+    // Visited neighbours and their roots (only read with `taint`).
+    let mut visited: Vec<(usize, usize)> = Vec::with_capacity(8);
     for &k in &order {
         let (i, j) = (k % nx, k / nx);
         roots.clear();
+        visited.clear();
         let mut best_nb: Option<usize> = None;
         for dj in -1i64..=1 {
             for di in -1i64..=1 {
@@ -155,10 +177,17 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
                 if !roots.contains(&r) {
                     roots.push(r);
                 }
+                visited.push((kk, r));
                 if best_nb.is_none_or(|b| h[kk] > h[b]) {
                     best_nb = Some(kk);
                 }
             }
+        }
+        if let Some(t) = taint.as_deref_mut() {
+            let fails = |r: usize| {
+                h[r] - h[k] < opts.min_prominence || (size[r] as f64) * cell_area < opts.min_area
+            };
+            t.visit(k, i, h, &visited, &kept, fails);
         }
         let Some(nb) = best_nb else {
             label[k] = k;
@@ -176,6 +205,9 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
                 if prom < opts.min_prominence || (size[r] as f64) * cell_area < opts.min_area {
                     parent[r] = top;
                     size[top] += size[r];
+                    if let Some(t) = taint.as_deref_mut() {
+                        t.merge(top, r);
+                    }
                 } else {
                     kept[r] = true;
                     prominence[r] = prom;
@@ -192,10 +224,13 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
         let r = find(&mut parent, label[k]);
         basin_cells.entry(r).or_default().push(k);
     }
-    let highest = order[0];
+    let highest = highest.unwrap_or(Some(order[0]));
+    if let Some(t) = taint {
+        t.finish(|p| find(&mut parent, p));
+    }
     let mut basins: Vec<(usize, Vec<usize>)> = Vec::new();
     for (r, cells) in basin_cells {
-        if r != highest && !kept[r] {
+        if Some(r) != highest && !kept[r] {
             // An island: never met a higher basin.
             let low = cells.iter().map(|&c| h[c]).fold(f64::INFINITY, f64::min);
             let prom = h[r] - low;
@@ -204,7 +239,7 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
             }
             prominence[r] = prom;
         }
-        if r == highest {
+        if Some(r) == highest {
             let low = cells.iter().map(|&c| h[c]).fold(f64::INFINITY, f64::min);
             prominence[r] = h[r] - low;
         }
@@ -220,7 +255,10 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
         }
         asperities.push(Asperity {
             summit_cell: (r % nx, r / nx),
-            summit: [(r % nx) as f64 * map.dx(), (r / nx) as f64 * map.dy()],
+            summit: [
+                (r % nx + origin) as f64 * map.dx(),
+                (r / nx) as f64 * map.dy(),
+            ],
             summit_height: h[r],
             prominence: prominence[r],
             area: cells.len() as f64 * cell_area,
@@ -229,7 +267,7 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
         });
     }
     for (id, a) in asperities.iter_mut().enumerate() {
-        a.fit = fit_summit(map, &labels, id as u32, a.summit_cell);
+        a.fit = fit_summit(map, &labels, id as u32, a.summit_cell, origin);
         if let Some(f) = a.fit {
             a.summit = [f.x, f.y];
             a.summit_height = f.z.max(a.summit_height);
@@ -238,6 +276,7 @@ pub fn segment(map: &HeightMap, opts: &SegmentOptions) -> Result<Segmentation, T
     Ok(Segmentation {
         nx,
         ny,
+        origin,
         labels,
         asperities,
     })
@@ -283,6 +322,7 @@ fn fit_summit(
     labels: &[u32],
     id: u32,
     (si, sj): (usize, usize),
+    origin: usize,
 ) -> Option<SummitFit> {
     let (nx, ny) = (map.nx(), map.ny());
     let mut ata = [[0.0; 6]; 6];
@@ -347,7 +387,7 @@ fn fit_summit(
         return None;
     }
     Some(SummitFit {
-        x: (si as f64 + u) * dx,
+        x: ((si + origin) as f64 + u) * dx,
         y: (sj as f64 + v) * dy,
         z,
         radii: (-1.0 / k1, -1.0 / k2),
@@ -427,7 +467,7 @@ impl GridCap {
             if i + 1 < nx && j + 1 < ny && inb(i + 1, j) && inb(i, j + 1) && inb(i + 1, j + 1) {
                 let corner = |ii: usize, jj: usize| {
                     [
-                        ii as f64 * dx - sx,
+                        (ii + seg.origin) as f64 * dx - sx,
                         jj as f64 * dy - sy,
                         h[jj * nx + ii] - top,
                     ]
@@ -439,7 +479,7 @@ impl GridCap {
                     corner(i, j + 1),
                 ];
                 let m = [
-                    (i as f64 + 0.5) * dx - sx,
+                    ((i + seg.origin) as f64 + 0.5) * dx - sx,
                     (j as f64 + 0.5) * dy - sy,
                     0.25 * (q[0][2] + q[1][2] + q[2][2] + q[3][2]),
                 ];

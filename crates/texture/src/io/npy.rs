@@ -38,6 +38,19 @@ pub fn read_npy(path: impl AsRef<Path>, dx: f64, dy: f64) -> Result<HeightMap, T
 /// As [`read_npy`], and a missing or malformed sidecar.
 pub fn read_npy_with_sidecar(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
+    let (dx, dy) = sidecar_spacing(path)?;
+    read_npy(path, dx, dy)
+}
+
+/// The spacing `(dx, dy)` (m) of a `.npy` height map, from its sidecar
+/// file `NAME.npy.spacing` (one number for both, or two), so that a window
+/// of the map ([`super::window::read_npy_window`]) is read as the whole
+/// map would be ([`read_npy_with_sidecar`]).
+///
+/// # Errors
+/// A missing or malformed sidecar.
+pub fn sidecar_spacing(path: impl AsRef<Path>) -> Result<(f64, f64), TextureError> {
+    let path = path.as_ref();
     let mut sidecar = path.as_os_str().to_os_string();
     sidecar.push(".spacing");
     let sidecar = Path::new(&sidecar);
@@ -57,7 +70,7 @@ pub fn read_npy_with_sidecar(path: impl AsRef<Path>) -> Result<HeightMap, Textur
             ));
         }
     };
-    read_npy(path, dx, dy)
+    Ok((dx, dy))
 }
 
 /// Reads a `.npz` height map (members `heights` and `spacing`).
