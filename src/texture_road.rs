@@ -286,12 +286,22 @@ impl TextureRoad {
 /// radius `Σ(δ)/(2πδ)` of the cap at a quarter of its depth range: a
 /// flat-topped or blunt chipping has a sharp-looking summit fit but spreads
 /// its contact like a far larger sphere.
+///
+/// A cap with no depth or no area at a quarter of it (a one-cell spike) has
+/// no radius to speak of: it is a sharp summit, radius 0, touched at its tip
+/// (its gap is the summit's), never a NaN that would refuse the whole road.
 pub(crate) fn equivalent_radius(a: &Asperity, law: &TextureLaw) -> f64 {
     let d = 0.25 * law.geometry().max_depth();
     let secant = law.geometry().cap(d).base_area / (2.0 * std::f64::consts::PI * d);
-    match a.fit {
+    let secant = if secant.is_finite() { secant } else { 0.0 };
+    let radius = match a.fit {
         Some(f) => (f.radii.0 * f.radii.1).sqrt().max(secant),
         None => secant,
+    };
+    if radius.is_finite() && radius > 0.0 {
+        radius
+    } else {
+        0.0
     }
 }
 
@@ -429,6 +439,51 @@ mod tests {
         // A map of another size is refused.
         let other = Arc::new(HeightMap::from_fn(10, 10, 1e-4, 1e-4, |_, _| 0.0).unwrap());
         assert!(road.local_shapes(&other).is_err());
+    }
+
+    /// Every summit radius is finite and non-negative, one-cell spikes
+    /// included, so the rolling road is built: a cap with no radius to speak
+    /// of is a sharp summit (radius 0), never a NaN that loses the whole
+    /// road to one asperity (seen once on a generated 2 m road at
+    /// `min_area = 1 mm²`, not reproduced here; the guard is in
+    /// `equivalent_radius`).
+    #[test]
+    fn a_one_cell_spike_is_a_sharp_summit_not_a_lost_road() {
+        let (balls, _) = balls();
+        let spikes = [
+            (120usize, 120usize, 1.0e-3),
+            (230, 120, 0.6e-3),
+            (120, 230, 0.3e-3),
+        ];
+        let map = HeightMap::from_fn(240, 240, 1e-4, 1e-4, |x, y| {
+            let (i, j) = ((x / 1e-4).round() as usize, (y / 1e-4).round() as usize);
+            let spike = spikes
+                .iter()
+                .find(|&&(si, sj, _)| (si, sj) == (i, j))
+                .map_or(0.0, |&(_, _, h)| h);
+            balls.get(i, j).unwrap_or(0.0).max(spike)
+        })
+        .unwrap();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let road = texture_road(&map, material, &TextureRoadOptions::new(0.2e-3, 1e-12)).unwrap();
+        assert!(
+            road.len() >= 7,
+            "four balls and three spikes: {}",
+            road.len()
+        );
+        let radii = road.summit_radii();
+        assert!(
+            radii.iter().all(|r| r.is_finite() && *r >= 0.0),
+            "{radii:?}"
+        );
+        // The balls keep their radius (about R = 5 mm); the spikes are far
+        // sharper than any ball.
+        let mut sorted = radii.clone();
+        sorted.sort_by(f64::total_cmp);
+        assert!(sorted[..3].iter().all(|r| *r < 1e-3), "{sorted:?}");
+        tyreroad_rolling::Road::new(road.set.clone())
+            .with_summit_radii(radii)
+            .expect("the road is built with its sharp summits");
     }
 
     #[test]

@@ -147,7 +147,8 @@ impl<L> Road<L> {
     ///
     /// # Errors
     /// [`RollingError::InvalidInput`] if the count differs from the road's,
-    /// a radius is not finite and positive, or the road is a window (its
+    /// a radius is not finite and non-negative (zero: a sharp summit, its gap
+    /// the summit's), or the road is a window (its
     /// digest is the whole road's, given when it was cut, so the radii
     /// must be known then).
     pub fn with_summit_radii(mut self, radii: Vec<f64>) -> Result<Self, RollingError> {
@@ -169,7 +170,7 @@ impl<L> Road<L> {
     ///
     /// # Errors
     /// [`RollingError::InvalidInput`] if this is not a window, the count
-    /// differs from the window's, or a radius is not finite and positive.
+    /// differs from the window's, or a radius is not finite and non-negative.
     pub fn window_with_summit_radii(mut self, radii: Vec<f64>) -> Result<Self, RollingError> {
         if !self.is_window() {
             return Err(RollingError::InvalidInput(
@@ -250,7 +251,10 @@ impl<L> Road<L> {
     }
 }
 
-/// One finite, positive radius per asperity.
+/// One finite, non-negative radius per asperity. Zero is a sharp summit
+/// (a spike, a one-cell peak): its first point of contact is its tip, so
+/// its gap is the summit's ([`crate::Tread::contact_gap`]); refusing it
+/// would lose the whole road to one asperity.
 fn check_radii(radii: &[f64], len: usize) -> Result<(), RollingError> {
     if radii.len() != len {
         return Err(RollingError::InvalidInput(format!(
@@ -261,10 +265,10 @@ fn check_radii(radii: &[f64], len: usize) -> Result<(), RollingError> {
     if let Some((i, r)) = radii
         .iter()
         .enumerate()
-        .find(|(_, r)| !(r.is_finite() && **r > 0.0))
+        .find(|(_, r)| !(r.is_finite() && **r >= 0.0))
     {
         return Err(RollingError::InvalidInput(format!(
-            "summit radius of asperity {i}: expected finite and > 0 m, got {r}"
+            "summit radius of asperity {i}: expected finite and >= 0 m, got {r}"
         )));
     }
     Ok(())

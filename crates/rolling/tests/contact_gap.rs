@@ -85,10 +85,28 @@ fn summit_radii_are_checked() {
     let set = AsperitySet::new(vec![[0.0, 0.0], [0.01, 0.0]], vec![0.0; 2], vec![law; 2]).unwrap();
     let road = Road::new(set);
     assert!(road.summit_radius(1).is_infinite());
-    for bad in [vec![5e-3], vec![5e-3, 0.0], vec![f64::NAN, 5e-3]] {
+    for bad in [
+        vec![5e-3],
+        vec![5e-3, -1e-3],
+        vec![f64::NAN, 5e-3],
+        vec![f64::INFINITY, 5e-3],
+    ] {
         let e = road.clone().with_summit_radii(bad).unwrap_err();
         assert!(matches!(e, RollingError::InvalidInput(_)), "{e}");
     }
+    // A sharp summit (radius 0) is accepted and touched at its tip: its
+    // gap is the tread profile at the summit, with no offset.
+    let sharp = road.clone().with_summit_radii(vec![0.0, 5e-3]).unwrap();
+    assert_eq!(sharp.summit_radius(0), 0.0);
+    let tyre = Tread::Tyre {
+        radius_x: 0.3,
+        radius_y: 0.5,
+        length: 0.1,
+        width: 0.1,
+    };
+    let (xi, eta) = (0.02, 0.01);
+    let profile = xi * xi / 0.6 + eta * eta / 1.0;
+    assert_eq!(tyre.contact_gap(xi, eta, 0.0), Some((profile, [0.0, 0.0])));
     let road = road.with_summit_radii(vec![4e-3, 5e-3]).unwrap();
     assert_eq!(road.summit_radius(1), 5e-3);
 }
