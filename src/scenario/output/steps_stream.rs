@@ -373,12 +373,10 @@ impl StepStream {
                 .compression_method(zip::CompressionMethod::Deflated);
             zip.start_file(format!("{name}.npy"), options)
                 .map_err(|e| npz_error(&e))?;
-            let mut chunks = BufWriter::with_capacity(super::DEFLATE_CHUNK, &mut zip);
-            npy_header(&mut chunks, shape, elem).map_err(|e| npz_error(&e))?;
-            body(&mut chunks).map_err(|e| npz_error(&e))?;
-            // Not `flush`: the deflater's flush ends a block with a sync
-            // marker that the whole member's bytes do not have.
-            chunks.into_inner().map(|_| ()).map_err(|e| npz_error(&e))
+            let mut pieces = Pieces::new(&mut zip);
+            npy_header(&mut pieces, shape, elem).map_err(|e| npz_error(&e))?;
+            body(&mut pieces).map_err(|e| npz_error(&e))?;
+            pieces.finish().map_err(|e| npz_error(&e))
         };
         let n = signals.len();
         member("time", &[n], Element::F64, &mut |w| {
@@ -412,6 +410,48 @@ impl StepStream {
             std::fs::remove_file(path).map_err(io("removing", path))?;
         }
         Ok(signals)
+    }
+}
+
+/// Hands a member's bytes on in pieces of exactly
+/// [`super::DEFLATE_CHUNK`] bytes (the last one shorter), as
+/// [`super::NpzBuilder`] cuts them: deflate's output depends on the cut.
+/// A `BufWriter` would not do: it hands on a part-full buffer when a write
+/// does not fit.
+struct Pieces<W: Write> {
+    inner: W,
+    piece: Vec<u8>,
+}
+
+impl<W: Write> Pieces<W> {
+    fn new(inner: W) -> Self {
+        Self {
+            inner,
+            piece: Vec::with_capacity(super::DEFLATE_CHUNK),
+        }
+    }
+
+    /// Hands on the last piece. Not `flush`: the deflater's flush ends a
+    /// block with a sync marker that the whole member's bytes do not have.
+    fn finish(mut self) -> std::io::Result<()> {
+        self.inner.write_all(&self.piece)
+    }
+}
+
+impl<W: Write> Write for Pieces<W> {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        let room = super::DEFLATE_CHUNK - self.piece.len();
+        let taken = room.min(bytes.len());
+        self.piece.extend_from_slice(&bytes[..taken]);
+        if self.piece.len() == super::DEFLATE_CHUNK {
+            self.inner.write_all(&self.piece)?;
+            self.piece.clear();
+        }
+        Ok(taken)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
     }
 }
 
