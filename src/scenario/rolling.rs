@@ -112,13 +112,20 @@ pub(crate) enum What {
         warmup: usize,
     },
     Gathered(rolling::RollingResult),
+    /// The road's summary and summits only: the records were written as
+    /// they arrived (`super::rolling_stream`).
+    Road,
 }
 
 /// What [`run_on`] gives back: a run, or a part's records.
 pub(crate) enum Rolled {
     Run(Box<RollingRun>),
     Part(rolling::RollingResult),
+    Road(RoadSummary, Summits),
 }
+
+/// A road's summit positions `(x, y)` and heights (m), in id order.
+pub(crate) type Summits = (Vec<[f64; 2]>, Vec<f64>);
 
 /// Runs `[rolling]` on the scenario's road.
 pub(crate) fn run_rolling(
@@ -128,7 +135,7 @@ pub(crate) fn run_rolling(
 ) -> Result<RollingRun, ScenarioError> {
     match rolling_on_road(scenario, spec, options, What::Whole)? {
         Rolled::Run(run) => Ok(*run),
-        Rolled::Part(_) => Err(ScenarioError::Invalid("a whole run gave a part".into())),
+        _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
     }
 }
 
@@ -175,7 +182,28 @@ pub(crate) fn rolling_on_road(
                 // touch, the same summits by the same ids as the whole
                 // road's (docs/distributed.md, "Memory per rank").
                 What::Part { steps, warmup } => {
-                    roll_synthetic_part(scenario, &synth, material, spec, options, steps, warmup)
+                    let mut part: Option<rolling::RollingResult> = None;
+                    let mut gather = |rolled| {
+                        gather_piece(&mut part, rolled, steps.len());
+                        Ok(())
+                    };
+                    let range = steps.clone();
+                    roll_synthetic_part(
+                        scenario,
+                        &synth,
+                        material,
+                        spec,
+                        options,
+                        (range, warmup),
+                        &mut gather,
+                    )?;
+                    part.map(Rolled::Part)
+                        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
+                }
+                What::Road => {
+                    let summits = synth.summits()?;
+                    let count = summits.0.len();
+                    Ok(Rolled::Road(RoadSummary::Synthetic { count }, summits))
                 }
                 // Records rolled elsewhere: the outputs need the summits'
                 // positions and heights, not their laws.
@@ -233,6 +261,10 @@ fn roll_road<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
+    if let What::Road = what {
+        let summits = (road.positions().to_vec(), road.heights().to_vec());
+        return Ok(Rolled::Road(summary, summits));
+    }
     let config = scenario.rolling_config()?;
     let checkpoint = options
         .checkpoint_dir
@@ -287,6 +319,7 @@ fn roll_road<L: ContactLaw + Sync>(
             return Ok(Rolled::Part(part));
         }
         What::Gathered(result) => result,
+        What::Road => return Err(ScenarioError::Invalid("no records to roll".into())),
     };
     let summits = (road.positions().to_vec(), road.heights().to_vec());
     finish(config, spec, summary, summits, result)
@@ -300,24 +333,78 @@ fn roll_road<L: ContactLaw + Sync>(
 /// piece costs memory and a shorter one time.
 const WINDOW_PATH: f64 = 1.0;
 
+/// Where a part's pieces go as they are rolled, in path order.
+pub(crate) type PieceSink<'s> = dyn FnMut(rolling::RollingResult) -> Result<(), ScenarioError> + 's;
+
+/// Appends a piece to the part being gathered, with room for the whole
+/// part (`steps`) made at the first piece (no doubling copies).
+fn gather_piece(
+    part: &mut Option<rolling::RollingResult>,
+    rolled: rolling::RollingResult,
+    steps: usize,
+) {
+    match part {
+        None => {
+            let mut first = rolled;
+            first
+                .steps
+                .reserve_exact(steps.saturating_sub(first.steps.len()));
+            *part = Some(first);
+        }
+        Some(all) => {
+            all.steps.extend(rolled.steps);
+            all.resumed += rolled.resumed;
+        }
+    }
+}
+
+/// Rolls the steps `steps` (a rank's part, each piece started `warmup`
+/// steps early) and hands the records to `sink` in path order: piece by
+/// piece on a synthetic road (so the caller need not hold the part), the
+/// whole part at once on other roads.
+pub(crate) fn roll_part_into(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    (steps, warmup): (std::ops::Range<usize>, usize),
+    sink: &mut PieceSink<'_>,
+) -> Result<(), ScenarioError> {
+    if let (None, true, Some(synth)) = (
+        &scenario.texture,
+        scenario.asperities.is_empty(),
+        &spec.synthetic_road,
+    ) {
+        let material = scenario.material()?;
+        let synth = synth.road();
+        let part = (steps, warmup);
+        return roll_synthetic_part(scenario, &synth, material, spec, options, part, sink);
+    }
+    match rolling_on_road(scenario, spec, options, What::Part { steps, warmup })? {
+        Rolled::Part(part) => sink(part),
+        _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
+    }
+}
+
 /// One rank's part on a synthetic road: the part cut into pieces of
 /// [`WINDOW_PATH`], each rolled (with its `warmup` steps) on the window of
 /// the road its footprints select from, built from the keep decisions
-/// found once for the whole road.
+/// found once for the whole road; each piece's records go to `sink`.
 fn roll_synthetic_part(
     scenario: &Scenario,
     synth: &rolling::SyntheticRoad,
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
-    steps: std::ops::Range<usize>,
-    warmup: usize,
-) -> Result<Rolled, ScenarioError> {
+    (steps, warmup): (std::ops::Range<usize>, usize),
+    sink: &mut PieceSink<'_>,
+) -> Result<(), ScenarioError> {
     let config = scenario.rolling_config()?;
     let windows = synth.windows(material)?;
     let count = windows.count();
     let per_window = ((WINDOW_PATH / config.step).floor() as usize).max(1);
-    let mut part: Option<rolling::RollingResult> = None;
+    if steps.is_empty() {
+        return Err(ScenarioError::Invalid("an empty part of the path".into()));
+    }
     let mut start = steps.start;
     while start < steps.end {
         let piece = start..(start + per_window).min(steps.end);
@@ -333,21 +420,9 @@ fn roll_synthetic_part(
         else {
             return Err(ScenarioError::Invalid("a part gave a whole run".into()));
         };
-        match &mut part {
-            None => {
-                // Room for the whole part at once (no doubling copies).
-                let mut first = rolled;
-                first.steps.reserve_exact(steps.len() - first.steps.len());
-                part = Some(first);
-            }
-            Some(all) => {
-                all.steps.extend(rolled.steps);
-                all.resumed += rolled.resumed;
-            }
-        }
+        sink(rolled)?;
     }
-    part.map(Rolled::Part)
-        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
+    Ok(())
 }
 
 /// The x-range of the road that the steps `steps` and their `warmup`
@@ -399,17 +474,44 @@ pub(super) fn spectra(
     spec: &RollingSpec,
     result: &rolling::RollingResult,
 ) -> Result<Spectra, ScenarioError> {
+    let sensors: Vec<Vec<f64>> = (0..config.sensors.len())
+        .map(|k| result.sensor(k))
+        .collect();
+    let signals = Signals {
+        sample_rate: result.sample_rate,
+        total_force: &result.total_force(),
+        approach: &result.approach(),
+        sensors: &sensors,
+    };
+    spectra_of(config, spec, &signals)
+}
+
+/// The signals the spectra are made of, one value per step.
+pub(super) struct Signals<'a> {
+    pub(super) sample_rate: f64,
+    pub(super) total_force: &'a [f64],
+    pub(super) approach: &'a [f64],
+    /// `sensors[k][step]`, a sensor missing from a record counted 0 N.
+    pub(super) sensors: &'a [Vec<f64>],
+}
+
+/// [`spectra`] of signals kept apart from their records.
+pub(super) fn spectra_of(
+    config: &rolling::RollingConfig,
+    spec: &RollingSpec,
+    signals: &Signals<'_>,
+) -> Result<Spectra, ScenarioError> {
     let reference = spec.reference_force.map_or(1.0, |f| f.value());
     let load_control = matches!(config.control, rolling::RollingControl::Load(_));
     let (primary, primary_reference) = if load_control {
-        (result.approach(), 1e-6)
+        (signals.approach, 1e-6)
     } else {
-        (result.total_force(), reference)
+        (signals.total_force, reference)
     };
-    let fs = result.sample_rate;
+    let fs = signals.sample_rate;
     // A Welch periodogram needs every sample: failed steps are bridged by
     // linear interpolation, and their count reported with the spectra.
-    let (primary, interpolated_samples) = rolling::interpolate_failed(&primary);
+    let (primary, interpolated_samples) = rolling::interpolate_failed(primary);
     let spectrum = |signal: &[f64], r: f64| {
         let (signal, _) = rolling::interpolate_failed(signal);
         rolling::third_octave(&signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
@@ -423,7 +525,10 @@ pub(super) fn spectra(
         .unwrap_or_else(|| rolling::default_segment_len(primary.len()));
     let resolved_from = 2.0 * fs / segment as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
     let sensors = (0..config.sensors.len())
-        .map(|k| spectrum(&result.sensor(k), reference))
+        .map(|k| match signals.sensors.get(k) {
+            Some(signal) => spectrum(signal, reference),
+            None => spectrum(&vec![0.0; primary.len()], reference),
+        })
         .collect::<Result<_, _>>()?;
     Ok(Spectra {
         load_control,

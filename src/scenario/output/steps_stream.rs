@@ -385,7 +385,9 @@ impl StepStream {
         member("position", &[n], Element::F64, &mut |w| {
             write_f64s(w, &signals.position)
         })?;
-        member("lateral", &[], Element::F64, &mut |w| write_f64s(w, &[lateral]))?;
+        member("lateral", &[], Element::F64, &mut |w| {
+            write_f64s(w, &[lateral])
+        })?;
         for (name, path) in TRIPLETS.iter().zip(&paths) {
             let elem = if *name == "force" {
                 Element::F64
@@ -484,7 +486,9 @@ fn npy_header(w: &mut dyn Write, shape: &[usize], elem: Element) -> std::io::Res
 }
 
 fn write_f64s(w: &mut dyn Write, values: &[f64]) -> std::io::Result<()> {
-    values.iter().try_for_each(|x| w.write_all(&x.to_le_bytes()))
+    values
+        .iter()
+        .try_for_each(|x| w.write_all(&x.to_le_bytes()))
 }
 
 #[cfg(test)]
@@ -572,7 +576,11 @@ mod tests {
         let npz = std::fs::read(dir.join("steps.npz")).unwrap();
         let whole = steps_npz(&result, 0.002).unwrap();
         // Members of 3 MB: several deflate pieces (`DEFLATE_CHUNK`) each.
-        assert!(npz.len() > 3_000_000, "{} bytes: too small a test", npz.len());
+        assert!(
+            npz.len() > 3_000_000,
+            "{} bytes: too small a test",
+            npz.len()
+        );
         assert!(npz == whole, "steps.npz differs from steps_npz");
 
         let rows: Vec<TimeSignalRow> = result.steps.iter().map(TimeSignalRow::of).collect();
