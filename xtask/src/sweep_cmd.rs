@@ -123,6 +123,11 @@ pub struct MpiRunArgs {
     /// Warm-up steps each rank solves before its part.
     #[arg(long, default_value_t = tyreroad_distributed::DEFAULT_WARMUP)]
     pub warmup: usize,
+    /// Rank 0 gathers every record, then writes (the way before records
+    /// were written as they arrive): the same files, with rank 0's memory
+    /// growing with the path; for comparisons (docs/performance.md).
+    #[arg(long)]
+    pub gather: bool,
 }
 
 /// `mpi-run`: the rolling run split over the ranks, written by rank 0.
@@ -143,6 +148,12 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
     use tyreroad::scenario::ScenarioError;
     use tyreroad::scenario::output::steps_stream::StepStream;
     let world = universe.world();
+    if args.gather {
+        if let Some(run) = mpi::roll(&world, &scenario, &options, args.warmup)? {
+            crate::rolling_cmd::report_rolling(&run, &args.out)?;
+        }
+        return Ok(());
+    }
     // Rank 0 streams the records into the output set as they arrive
     // (docs/distributed.md, "Gather and write"). A set that cannot be
     // opened is reported at the first record, as rank 0's error, so the
