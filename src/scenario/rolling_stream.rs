@@ -130,7 +130,9 @@ mod tests {
             panic!("not a rolling run");
         };
         let total = scenario.rolling_steps().unwrap();
-        for parts in [vec![0..total], vec![0..total / 2, total / 2..total]] {
+        // The path cut at these steps: whole, then in two.
+        for cuts in [vec![0, total], vec![0, total / 2, total]] {
+            let parts: Vec<std::ops::Range<usize>> = cuts.windows(2).map(|w| w[0]..w[1]).collect();
             let parent = tempfile::tempdir().unwrap();
             let mut set = OutputSet::new(parent.path().join("out")).unwrap();
             let mut stream = StepStream::new(&mut set, &["centre".to_string()]).unwrap();
