@@ -8,8 +8,8 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use tyreroad::rolling;
-use tyreroad::scenario::output::steps_stream::{StepSignals, StepStream};
-use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz};
+use tyreroad::scenario::output::steps_stream::{StepSignals, StepStream, write_road_npz};
+use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt};
 use tyreroad::scenario::{
     RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult, Spectra, StreamedRun,
 };
@@ -223,7 +223,7 @@ pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()>
 /// tables and the charts (the per-step files are [`StepStream`]'s).
 fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
     let (config, signals, spectra) = (run.config, run.signals, run.spectra);
-    set.write("road.npz", &road_npz(run.road_positions, run.road_heights)?)?;
+    write_road_npz(set, run.road_positions, run.road_heights)?;
 
     // third_octave.csv keeps exactly the two columns noise models read; the
     // exact centres and the sensors' levels go beside it.

@@ -361,23 +361,14 @@ impl StepStream {
             w.into_inner().map_err(|e| npz_error(&e))?;
             paths.push(path);
         }
-        let npz = set.staging_path("steps.npz");
-        let file = File::create(&npz).map_err(io("creating", &npz))?;
-        let mut zip = zip::ZipWriter::new(BufWriter::new(file));
-        let mut member = |name: &str,
-                          shape: &[usize],
-                          elem: Element,
-                          body: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>|
-         -> Result<(), ScenarioError> {
-            let options = zip::write::SimpleFileOptions::default()
-                .compression_method(zip::CompressionMethod::Deflated);
-            zip.start_file(format!("{name}.npy"), options)
-                .map_err(|e| npz_error(&e))?;
-            let mut pieces = Pieces::new(&mut zip);
-            npy_header(&mut pieces, shape, elem).map_err(|e| npz_error(&e))?;
-            body(&mut pieces).map_err(|e| npz_error(&e))?;
-            pieces.finish().map_err(|e| npz_error(&e))
-        };
+        let mut npz = NpzStream::create(set, "steps.npz")?;
+        let mut member =
+            |name: &str,
+             shape: &[usize],
+             elem: Element,
+             body: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>| {
+                npz.member(name, shape, elem, body)
+            };
         let n = signals.len();
         member("time", &[n], Element::F64, &mut |w| {
             write_f64s(w, &signals.time)
@@ -406,12 +397,88 @@ impl StepStream {
                 .iter()
                 .try_for_each(|s| w.write_all(&status_code(*s).to_le_bytes()))
         })?;
-        let file = zip.finish().map_err(|e| npz_error(&e))?;
-        file.into_inner().map_err(|e| npz_error(&e))?;
+        npz.finish()?;
         for path in &paths {
             std::fs::remove_file(path).map_err(io("removing", path))?;
         }
         Ok(signals)
+    }
+}
+
+/// `road.npz` ([`super::road_npz`]'s bytes) written into `set` member by
+/// member from the summits, without the copies and the archive in memory
+/// that building it whole takes (about 100 B a summit).
+///
+/// # Errors
+/// [`ScenarioError::Io`] / [`ScenarioError::Encode`] if the file cannot be
+/// written, or the two lists differ in length.
+pub fn write_road_npz(
+    set: &mut OutputSet,
+    positions: &[[f64; 2]],
+    heights: &[f64],
+) -> Result<(), ScenarioError> {
+    if positions.len() != heights.len() {
+        return Err(npz_error(&format!(
+            "{} summit positions but {} heights",
+            positions.len(),
+            heights.len()
+        )));
+    }
+    let n = positions.len();
+    let mut npz = NpzStream::create(set, "road.npz")?;
+    npz.member("ids", &[n], Element::U64, &mut |w| {
+        (0..n as u64).try_for_each(|id| w.write_all(&id.to_le_bytes()))
+    })?;
+    npz.member("positions", &[n, 2], Element::F64, &mut |w| {
+        positions.iter().try_for_each(|p| write_f64s(w, p))
+    })?;
+    npz.member("heights", &[n], Element::F64, &mut |w| {
+        write_f64s(w, heights)
+    })?;
+    npz.finish()
+}
+
+/// An `.npz` archive written member by member into a staged file, each
+/// member's bytes handed to the deflater as [`super::NpzBuilder`] hands
+/// them ([`Pieces`]).
+struct NpzStream {
+    path: PathBuf,
+    zip: zip::ZipWriter<BufWriter<File>>,
+}
+
+impl NpzStream {
+    fn create(set: &mut OutputSet, name: &str) -> Result<Self, ScenarioError> {
+        let path = set.staging_path(name);
+        let file = File::create(&path).map_err(io("creating", &path))?;
+        Ok(Self {
+            path,
+            zip: zip::ZipWriter::new(BufWriter::new(file)),
+        })
+    }
+
+    /// Member `name.npy` of `shape`, its data written by `body`.
+    fn member(
+        &mut self,
+        name: &str,
+        shape: &[usize],
+        elem: Element,
+        body: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<(), ScenarioError> {
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated);
+        self.zip
+            .start_file(format!("{name}.npy"), options)
+            .map_err(|e| npz_error(&e))?;
+        let mut pieces = Pieces::new(&mut self.zip);
+        npy_header(&mut pieces, shape, elem).map_err(|e| npz_error(&e))?;
+        body(&mut pieces).map_err(|e| npz_error(&e))?;
+        pieces.finish().map_err(io("writing", &self.path))
+    }
+
+    fn finish(self) -> Result<(), ScenarioError> {
+        let file = self.zip.finish().map_err(|e| npz_error(&e))?;
+        file.into_inner().map_err(|e| npz_error(&e))?;
+        Ok(())
     }
 }
 
@@ -462,6 +529,7 @@ impl<W: Write> Write for Pieces<W> {
 enum Element {
     F64,
     I64,
+    U64,
 }
 
 /// The `.npy` header of an array of `shape` (C order), exactly as
@@ -477,6 +545,12 @@ fn npy_header(w: &mut dyn Write, shape: &[usize], elem: Element) -> std::io::Res
             .write_header_only()
             .map(|_| ()),
         Element::I64 => npyz::WriteOptions::<i64>::new()
+            .default_dtype()
+            .shape(&shape)
+            .writer(w)
+            .write_header_only()
+            .map(|_| ()),
+        Element::U64 => npyz::WriteOptions::<u64>::new()
             .default_dtype()
             .shape(&shape)
             .writer(w)
@@ -624,6 +698,28 @@ mod tests {
         assert_eq!(signals.overlapping_steps, 20_000usize.div_ceil(97));
         let not_converged: Vec<usize> = signals.not_converged.iter().map(|s| s.index).collect();
         assert_eq!(not_converged, [3, 10_000]);
+    }
+
+    /// `road.npz` written member by member is `road_npz`'s bytes, on a
+    /// road whose members span several deflate pieces; lists of unequal
+    /// length are refused.
+    #[test]
+    fn streamed_road_npz_equals_the_whole_archive() {
+        let n: usize = 70_000;
+        let positions: Vec<[f64; 2]> = (0..n)
+            .map(|i| [i as f64 * 1.3e-5, ((i * 7919) % 1000) as f64 * 8e-5])
+            .collect();
+        let heights: Vec<f64> = (0..n)
+            .map(|i| ((i * 104_729) % 997) as f64 * 1e-6)
+            .collect();
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        let mut set = OutputSet::new(&dir).unwrap();
+        write_road_npz(&mut set, &positions, &heights).unwrap();
+        assert!(write_road_npz(&mut set, &positions, &heights[1..]).is_err());
+        set.commit().unwrap();
+        let whole = super::super::road_npz(&positions, &heights).unwrap();
+        assert!(std::fs::read(dir.join("road.npz")).unwrap() == whole);
     }
 
     /// A record out of path order is refused, naming both steps; a stream
