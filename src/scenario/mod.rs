@@ -25,6 +25,7 @@ mod history;
 pub mod output;
 mod rolling;
 mod rolling_spec;
+mod rolling_stream;
 mod spec;
 mod statics;
 mod texture;
@@ -45,6 +46,7 @@ pub use history::{
 };
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
+pub use rolling_stream::StreamedRun;
 pub use spec::{
     AsperitySpec, DynLaw, MaterialSpec, ModelSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec,
     StaticSpec, SynthSpec, TextureSpec,
@@ -180,9 +182,7 @@ impl Scenario {
         match rolling::rolling_on_road(self, spec, options, rolling::What::Part { steps, warmup })?
         {
             rolling::Rolled::Part(part) => Ok(part),
-            rolling::Rolled::Run(_) => {
-                Err(ScenarioError::Invalid("a part gave a whole run".into()))
-            }
+            _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
         }
     }
 
@@ -201,9 +201,7 @@ impl Scenario {
         let spec = self.rolling_section()?;
         match rolling::rolling_on_road(self, spec, options, rolling::What::Gathered(result))? {
             rolling::Rolled::Run(run) => Ok(*run),
-            rolling::Rolled::Part(_) => {
-                Err(ScenarioError::Invalid("a whole run gave a part".into()))
-            }
+            _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
         }
     }
 

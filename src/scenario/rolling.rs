@@ -114,13 +114,20 @@ pub(crate) enum What {
         warmup: usize,
     },
     Gathered(rolling::RollingResult),
+    /// The road's summary and summits only: the records were written as
+    /// they arrived (`super::rolling_stream`).
+    Road,
 }
 
 /// What [`run_on`] gives back: a run, or a part's records.
 pub(crate) enum Rolled {
     Run(Box<RollingRun>),
     Part(rolling::RollingResult),
+    Road(RoadSummary, Summits),
 }
+
+/// A road's summit positions `(x, y)` and heights (m), in id order.
+pub(crate) type Summits = (Vec<[f64; 2]>, Vec<f64>);
 
 /// Runs `[rolling]` on the scenario's road.
 pub(crate) fn run_rolling(
@@ -130,7 +137,7 @@ pub(crate) fn run_rolling(
 ) -> Result<RollingRun, ScenarioError> {
     match rolling_on_road(scenario, spec, options, What::Whole)? {
         Rolled::Run(run) => Ok(*run),
-        Rolled::Part(_) => Err(ScenarioError::Invalid("a whole run gave a part".into())),
+        _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
     }
 }
 
@@ -173,18 +180,22 @@ pub(crate) fn rolling_on_road(
         // asperities by the same ids as the whole road's (other formats,
         // and calibrated laws above, are read whole: docs/distributed.md,
         // "Memory per rank").
-        if let (What::Part { steps, warmup }, Some(path)) = (&what, npy_file(texture, options)) {
-            let road = NpyTextureRoad::open(&path, material, &texture.road_options())?;
+        if let What::Part { steps, warmup } = &what
+            && let Some(road) = npy_window_road(scenario, options, material)?
+        {
             let summary = RoadSummary::Asperities { count: road.len() };
-            return roll_part_on_windows(
-                scenario,
-                material,
-                spec,
-                options,
-                (steps.clone(), *warmup),
-                summary,
-                |range| Ok(road.window(range)?),
-            );
+            return gather_part(steps.len(), |sink| {
+                roll_part_on_windows(
+                    scenario,
+                    material,
+                    spec,
+                    options,
+                    (steps.clone(), *warmup),
+                    summary,
+                    |range| Ok(road.window(range)?),
+                    sink,
+                )
+            });
         }
         let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
@@ -224,15 +235,23 @@ pub(crate) fn rolling_on_road(
                     let summary = RoadSummary::Synthetic {
                         count: windows.count(),
                     };
-                    roll_part_on_windows(
-                        scenario,
-                        material,
-                        spec,
-                        options,
-                        (steps, warmup),
-                        summary,
-                        |range| Ok(windows.window(range)?),
-                    )
+                    gather_part(steps.len(), |sink| {
+                        roll_part_on_windows(
+                            scenario,
+                            material,
+                            spec,
+                            options,
+                            (steps, warmup),
+                            summary,
+                            |range| Ok(windows.window(range)?),
+                            sink,
+                        )
+                    })
+                }
+                What::Road => {
+                    let summits = synth.summits()?;
+                    let count = summits.0.len();
+                    Ok(Rolled::Road(RoadSummary::Synthetic { count }, summits))
                 }
                 // Records rolled elsewhere: the outputs need the summits'
                 // positions and heights, not their laws.
@@ -290,6 +309,10 @@ fn roll_road<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
+    if let What::Road = what {
+        let summits = (road.positions().to_vec(), road.heights().to_vec());
+        return Ok(Rolled::Road(summary, summits));
+    }
     let config = scenario.rolling_config()?;
     let checkpoint = options
         .checkpoint_dir
@@ -344,6 +367,7 @@ fn roll_road<L: ContactLaw + Sync>(
             return Ok(Rolled::Part(part));
         }
         What::Gathered(result) => result,
+        What::Road => return Err(ScenarioError::Invalid("no records to roll".into())),
     };
     let summits = (road.positions().to_vec(), road.heights().to_vec());
     finish(config, spec, summary, summits, result)
@@ -357,6 +381,30 @@ fn roll_road<L: ContactLaw + Sync>(
 /// piece costs memory and a shorter one time.
 const WINDOW_PATH: f64 = 1.0;
 
+/// The scenario's texture road, opened for reading by windows, when its
+/// `[texture] file` is a `.npy` map rolled with the Wilke laws; `None` when
+/// the road is read whole (other formats, no texture, calibrated laws).
+fn npy_window_road(
+    scenario: &Scenario,
+    options: &RunOptions<'_>,
+    material: Material,
+) -> Result<Option<NpyTextureRoad>, ScenarioError> {
+    let Some(texture) = &scenario.texture else {
+        return Ok(None);
+    };
+    if scenario.model.fidelity()? == Fidelity::Calibrated {
+        return Ok(None);
+    }
+    let Some(path) = npy_file(texture, options) else {
+        return Ok(None);
+    };
+    Ok(Some(NpyTextureRoad::open(
+        &path,
+        material,
+        &texture.road_options(),
+    )?))
+}
+
 /// The `[texture] file` when it is a `.npy` map (read by windows), else
 /// `None` (read whole).
 fn npy_file(texture: &super::TextureSpec, options: &RunOptions<'_>) -> Option<PathBuf> {
@@ -367,11 +415,92 @@ fn npy_file(texture: &super::TextureSpec, options: &RunOptions<'_>) -> Option<Pa
         .then_some(path)
 }
 
+/// Where a part's pieces go as they are rolled, in path order.
+pub(crate) type PieceSink<'s> = dyn FnMut(rolling::RollingResult) -> Result<(), ScenarioError> + 's;
+
+/// Appends a piece to the part being gathered, with room for the whole
+/// part (`steps`) made at the first piece (no doubling copies).
+fn gather_piece(
+    part: &mut Option<rolling::RollingResult>,
+    rolled: rolling::RollingResult,
+    steps: usize,
+) {
+    match part {
+        None => {
+            let mut first = rolled;
+            first
+                .steps
+                .reserve_exact(steps.saturating_sub(first.steps.len()));
+            *part = Some(first);
+        }
+        Some(all) => {
+            all.steps.extend(rolled.steps);
+            all.resumed += rolled.resumed;
+        }
+    }
+}
+
+/// Rolls the steps `steps` (a rank's part, each piece started `warmup`
+/// steps early) and hands the records to `sink` in path order: piece by
+/// piece on a synthetic road (so the caller need not hold the part), the
+/// whole part at once on other roads.
+pub(crate) fn roll_part_into(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    (steps, warmup): (std::ops::Range<usize>, usize),
+    sink: &mut PieceSink<'_>,
+) -> Result<(), ScenarioError> {
+    let material = scenario.material()?;
+    let part = (steps.clone(), warmup);
+    if let (None, true, Some(synth)) = (
+        &scenario.texture,
+        scenario.asperities.is_empty(),
+        &spec.synthetic_road,
+    ) {
+        let windows = synth.road().windows(material)?;
+        let summary = RoadSummary::Synthetic {
+            count: windows.count(),
+        };
+        let window = |range| Ok(windows.window(range)?);
+        return roll_part_on_windows(
+            scenario, material, spec, options, part, summary, window, sink,
+        );
+    }
+    if let Some(road) = npy_window_road(scenario, options, material)? {
+        let summary = RoadSummary::Asperities { count: road.len() };
+        let window = |range| Ok(road.window(range)?);
+        return roll_part_on_windows(
+            scenario, material, spec, options, part, summary, window, sink,
+        );
+    }
+    match rolling_on_road(scenario, spec, options, What::Part { steps, warmup })? {
+        Rolled::Part(part) => sink(part),
+        _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
+    }
+}
+
+/// Gathers the pieces that `roll` hands to its sink into one part of
+/// `steps` steps.
+fn gather_part(
+    steps: usize,
+    roll: impl FnOnce(&mut PieceSink<'_>) -> Result<(), ScenarioError>,
+) -> Result<Rolled, ScenarioError> {
+    let mut part: Option<rolling::RollingResult> = None;
+    roll(&mut |rolled| {
+        gather_piece(&mut part, rolled, steps);
+        Ok(())
+    })?;
+    part.map(Rolled::Part)
+        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
+}
+
 /// One rank's part on a road read by windows (a synthetic road, a `.npy`
 /// texture): the part cut into pieces of [`WINDOW_PATH`], each rolled (with
 /// its `warmup` steps) on the window of the road its footprints select
-/// from. `summary` only labels the pieces' runs: a part's records carry
-/// none.
+/// from; each piece's records go to `sink`, in path order. `summary` only
+/// labels the pieces' runs: a part's records carry none.
+#[allow(clippy::too_many_arguments)]
 fn roll_part_on_windows<L: ContactLaw + Sync>(
     scenario: &Scenario,
     material: Material,
@@ -380,10 +509,13 @@ fn roll_part_on_windows<L: ContactLaw + Sync>(
     (steps, warmup): (std::ops::Range<usize>, usize),
     summary: RoadSummary,
     mut window: impl FnMut([f64; 2]) -> Result<rolling::Road<L>, ScenarioError>,
-) -> Result<Rolled, ScenarioError> {
+    sink: &mut PieceSink<'_>,
+) -> Result<(), ScenarioError> {
     let config = scenario.rolling_config()?;
     let per_window = ((WINDOW_PATH / config.step).floor() as usize).max(1);
-    let mut part: Option<rolling::RollingResult> = None;
+    if steps.is_empty() {
+        return Err(ScenarioError::Invalid("an empty part of the path".into()));
+    }
     let mut start = steps.start;
     while start < steps.end {
         let piece = start..(start + per_window).min(steps.end);
@@ -405,21 +537,9 @@ fn roll_part_on_windows<L: ContactLaw + Sync>(
         else {
             return Err(ScenarioError::Invalid("a part gave a whole run".into()));
         };
-        match &mut part {
-            None => {
-                // Room for the whole part at once (no doubling copies).
-                let mut first = rolled;
-                first.steps.reserve_exact(steps.len() - first.steps.len());
-                part = Some(first);
-            }
-            Some(all) => {
-                all.steps.extend(rolled.steps);
-                all.resumed += rolled.resumed;
-            }
-        }
+        sink(rolled)?;
     }
-    part.map(Rolled::Part)
-        .ok_or_else(|| ScenarioError::Invalid("an empty part of the path".into()))
+    Ok(())
 }
 
 /// The x-range of the road that the steps `steps` and their `warmup`
@@ -471,17 +591,44 @@ pub(super) fn spectra(
     spec: &RollingSpec,
     result: &rolling::RollingResult,
 ) -> Result<Spectra, ScenarioError> {
+    let sensors: Vec<Vec<f64>> = (0..config.sensors.len())
+        .map(|k| result.sensor(k))
+        .collect();
+    let signals = Signals {
+        sample_rate: result.sample_rate,
+        total_force: &result.total_force(),
+        approach: &result.approach(),
+        sensors: &sensors,
+    };
+    spectra_of(config, spec, &signals)
+}
+
+/// The signals the spectra are made of, one value per step.
+pub(super) struct Signals<'a> {
+    pub(super) sample_rate: f64,
+    pub(super) total_force: &'a [f64],
+    pub(super) approach: &'a [f64],
+    /// `sensors[k][step]`, a sensor missing from a record counted 0 N.
+    pub(super) sensors: &'a [Vec<f64>],
+}
+
+/// [`spectra`] of signals kept apart from their records.
+pub(super) fn spectra_of(
+    config: &rolling::RollingConfig,
+    spec: &RollingSpec,
+    signals: &Signals<'_>,
+) -> Result<Spectra, ScenarioError> {
     let reference = spec.reference_force.map_or(1.0, |f| f.value());
     let load_control = matches!(config.control, rolling::RollingControl::Load(_));
     let (primary, primary_reference) = if load_control {
-        (result.approach(), 1e-6)
+        (signals.approach, 1e-6)
     } else {
-        (result.total_force(), reference)
+        (signals.total_force, reference)
     };
-    let fs = result.sample_rate;
+    let fs = signals.sample_rate;
     // A Welch periodogram needs every sample: failed steps are bridged by
     // linear interpolation, and their count reported with the spectra.
-    let (primary, interpolated_samples) = rolling::interpolate_failed(&primary);
+    let (primary, interpolated_samples) = rolling::interpolate_failed(primary);
     let spectrum = |signal: &[f64], r: f64| {
         let (signal, _) = rolling::interpolate_failed(signal);
         rolling::third_octave(&signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
@@ -495,7 +642,10 @@ pub(super) fn spectra(
         .unwrap_or_else(|| rolling::default_segment_len(primary.len()));
     let resolved_from = 2.0 * fs / segment as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
     let sensors = (0..config.sensors.len())
-        .map(|k| spectrum(&result.sensor(k), reference))
+        .map(|k| match signals.sensors.get(k) {
+            Some(signal) => spectrum(signal, reference),
+            None => spectrum(&vec![0.0; primary.len()], reference),
+        })
         .collect::<Result<_, _>>()?;
     Ok(Spectra {
         load_control,

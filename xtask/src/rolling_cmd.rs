@@ -8,8 +8,11 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use tyreroad::rolling;
-use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt, road_npz, steps_npz};
-use tyreroad::scenario::{RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult};
+use tyreroad::scenario::output::steps_stream::{StepSignals, StepStream, write_road_npz};
+use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt};
+use tyreroad::scenario::{
+    RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult, Spectra, StreamedRun,
+};
 
 use crate::charts::{Series, line_chart};
 use crate::summary::Fallbacks;
@@ -56,7 +59,73 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<F
 /// Prints what a rolling run needs to be read right, and writes its files.
 /// Returns the steps not `converged` (stagnated or failed).
 pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
-    match &run.road {
+    let mut set = OutputSet::replacing(out, "rolling")?;
+    let signals = stream_records(run, &mut set)?;
+    report_ended(&Ended::of_run(run, &signals), set, out)
+}
+
+/// [`report_rolling`] for a run whose records were streamed into `set`
+/// as they arrived (`mpi-run`'s rank 0): prints, writes the end-of-run
+/// files into `set` and commits it.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+pub fn report_streamed(run: &StreamedRun, set: OutputSet, out: &Path) -> Result<Fallbacks> {
+    report_ended(&Ended::of_streamed(run), set, out)
+}
+
+/// What the end-of-run outputs and the summary read of a run, whole or
+/// streamed.
+struct Ended<'a> {
+    road: &'a RoadSummary,
+    road_positions: &'a [[f64; 2]],
+    road_heights: &'a [f64],
+    config: &'a rolling::RollingConfig,
+    signals: &'a StepSignals,
+    resumed: usize,
+    sample_rate: f64,
+    spectra: &'a Spectra,
+}
+
+impl<'a> Ended<'a> {
+    fn of_run(run: &'a RollingRun, signals: &'a StepSignals) -> Self {
+        Self {
+            road: &run.road,
+            road_positions: &run.road_positions,
+            road_heights: &run.road_heights,
+            config: &run.config,
+            signals,
+            resumed: run.result.resumed,
+            sample_rate: run.result.sample_rate,
+            spectra: &run.spectra,
+        }
+    }
+
+    fn of_streamed(run: &'a StreamedRun) -> Self {
+        Self {
+            road: &run.road,
+            road_positions: &run.road_positions,
+            road_heights: &run.road_heights,
+            config: &run.config,
+            signals: &run.signals,
+            resumed: run.resumed,
+            sample_rate: run.config.sample_rate(),
+            spectra: &run.spectra,
+        }
+    }
+}
+
+/// Writes the per-step files of a whole run through the same
+/// [`StepStream`] as a streamed run, so both give the same bytes.
+fn stream_records(run: &RollingRun, set: &mut OutputSet) -> Result<StepSignals> {
+    let names: Vec<String> = run.config.sensors.iter().map(|s| s.name.clone()).collect();
+    let mut stream = StepStream::new(set, &names)?;
+    for s in &run.result.steps {
+        stream.push(s)?;
+    }
+    Ok(stream.finish(set, run.config.lateral)?)
+}
+
+fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallbacks> {
+    match run.road {
         RoadSummary::Texture(t) => println!(
             "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
             t.extent.0,
@@ -80,32 +149,32 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
             cal.time.as_secs_f64()
         );
     }
-    let result = &run.result;
-    let total = result.steps.len();
-    if result.resumed > 0 {
+    let signals = run.signals;
+    let total = signals.len();
+    if run.resumed > 0 {
         println!(
             "resumed {} of {total} steps from {}",
-            result.resumed,
+            run.resumed,
             out.join("checkpoint").display()
         );
     }
-    if result.min_clearance() <= 0.0 {
+    if signals.min_clearance <= 0.0 {
         println!(
             "warning: at some steps the approach exceeds the tread profile at the selection \
              boundary (clearance {:.3e} m): widen the footprint or the margin",
-            result.min_clearance()
+            signals.min_clearance
         );
     }
-    let (overlapping_steps, most) = run.overlapping_steps();
+    let (overlapping_steps, most) = (signals.overlapping_steps, signals.most_overlapping);
     if overlapping_steps > 0 {
         println!(
             "note: at {overlapping_steps} of {total} steps some contact patches overlap (up to \
              {most} pairs, column n_overlapping): the point-force coupling does not hold there"
         );
     }
-    let [converged, stagnated, failed] = run.status_counts();
+    let [converged, stagnated, failed] = signals.status_counts();
     println!("steps: {converged} converged, {stagnated} stagnated, {failed} failed");
-    let spectra = &run.spectra;
+    let spectra = run.spectra;
     if failed > 0 {
         println!(
             "warning: {failed} of {total} steps failed (NaN in time_signals.csv, status \
@@ -115,7 +184,7 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
         );
     }
     if spectra.has_unresolved_bands() {
-        let fs = result.sample_rate;
+        let fs = run.sample_rate;
         println!(
             "note: with {}-sample Welch segments (Δf = {:.1} Hz) the bands below \
              {:.0} Hz are not resolved: roll a longer path for them",
@@ -124,42 +193,15 @@ pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
             spectra.resolved_from
         );
     }
-    let mut set = OutputSet::replacing(out, "rolling")?;
-    write_outputs(run, &mut set)?;
+    write_end(run, &mut set)?;
     set.commit()?;
     println!(
         "rolling: {} steps, fs = {:.1} Hz, written to {}",
         total,
-        result.sample_rate,
+        run.sample_rate,
         out.display()
     );
-    Ok(Fallbacks::from_rolling(result))
-}
-
-#[derive(Serialize)]
-struct TimeSignalRow {
-    #[serde(rename = "time_s", serialize_with = "fmt::sci9")]
-    time: f64,
-    #[serde(rename = "position_m", serialize_with = "fmt::sci9")]
-    position: f64,
-    #[serde(rename = "total_force_n", serialize_with = "fmt::sci12")]
-    total_force: f64,
-    #[serde(rename = "approach_m", serialize_with = "fmt::sci12")]
-    approach: f64,
-    #[serde(rename = "contact_area_m2", serialize_with = "fmt::sci9")]
-    contact_area: f64,
-    n_contacts: usize,
-    n_selected: usize,
-    iterations: usize,
-    #[serde(rename = "clearance_m", serialize_with = "fmt::sci6")]
-    clearance: f64,
-    n_overlapping: usize,
-    // Appended after the original columns, which keep their bytes; the
-    // iteration count is already the `iterations` column above.
-    status: &'static str,
-    recovery: &'static str,
-    #[serde(serialize_with = "fmt::sci6")]
-    residual: f64,
+    Ok(Fallbacks::from_rolling(&signals.not_converged))
 }
 
 #[derive(Serialize)]
@@ -182,44 +224,17 @@ struct BandDetailRow {
     sensors: Vec<f64>,
 }
 
-/// `time_s,position_m,<sensor>_n...`.
-#[derive(Serialize)]
-struct SensorRow {
-    #[serde(serialize_with = "fmt::sci9")]
-    time: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    position: f64,
-    #[serde(serialize_with = "fmt::sci9_all")]
-    forces: Vec<f64>,
+/// Writes every file of a whole run into `set` (not committed).
+pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
+    let signals = stream_records(run, set)?;
+    write_end(&Ended::of_run(run, &signals), set)
 }
 
-pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
-    let (config, result, spectra) = (&run.config, &run.result, &run.spectra);
-    set.write(
-        "road.npz",
-        &road_npz(&run.road_positions, &run.road_heights)?,
-    )?;
-    set.write("steps.npz", &steps_npz(result, config.lateral)?)?;
-    let ts: Vec<TimeSignalRow> = result
-        .steps
-        .iter()
-        .map(|s| TimeSignalRow {
-            time: s.time,
-            position: s.position,
-            total_force: s.total_force,
-            approach: s.approach,
-            contact_area: s.contact_area,
-            n_contacts: s.contacts,
-            n_selected: s.selected,
-            iterations: s.iterations,
-            clearance: s.clearance,
-            n_overlapping: s.overlapping,
-            status: s.status.name(),
-            recovery: rolling::recovery_name(s.recovery),
-            residual: s.residual,
-        })
-        .collect();
-    set.write_csv("time_signals.csv", &ts)?;
+/// The files written once every step is in: `road.npz`, the spectra
+/// tables and the charts (the per-step files are [`StepStream`]'s).
+fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
+    let (config, signals, spectra) = (run.config, run.signals, run.spectra);
+    write_road_npz(set, run.road_positions, run.road_heights)?;
 
     // third_octave.csv keeps exactly the two columns noise models read; the
     // exact centres and the sensors' levels go beside it.
@@ -252,47 +267,32 @@ pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()>
         &csv_bytes(Some(&header), &details)?,
     )?;
 
-    if !config.sensors.is_empty() {
-        let mut header = vec!["time_s".to_string(), "position_m".to_string()];
-        header.extend(config.sensors.iter().map(|s| format!("{}_n", s.name)));
-        let rows: Vec<SensorRow> = result
-            .steps
-            .iter()
-            .map(|s| SensorRow {
-                time: s.time,
-                position: s.position,
-                forces: s.sensor_forces.clone(),
-            })
-            .collect();
-        set.write("sensors.csv", &csv_bytes(Some(&header), &rows)?)?;
-    }
-
     // Charts (x in ms for signals, band number k for spectra).
     let load_control = spectra.load_control;
     let reference = spectra.reference_force;
     let sensor_levels = &spectra.sensors;
     let ms = |v: &[f64]| -> Vec<(f64, f64)> {
-        result
-            .steps
+        signals
+            .time
             .iter()
             .zip(v)
             // A failed step's NaN is a gap in the chart, not a point.
             .filter(|(_, y)| y.is_finite())
-            .map(|(s, &y)| (s.time * 1e3, y))
+            .map(|(t, &y)| (t * 1e3, y))
             .collect()
     };
     let (name, unit, main) = if load_control {
         (
             "approach",
             "approach (mm)",
-            result
-                .approach()
-                .iter()
-                .map(|d| d * 1e3)
-                .collect::<Vec<_>>(),
+            signals.approach.iter().map(|d| d * 1e3).collect::<Vec<_>>(),
         )
     } else {
-        ("total force", "total force (N)", result.total_force())
+        (
+            "total force",
+            "total force (N)",
+            signals.total_force.clone(),
+        )
     };
     line_chart(
         set,
@@ -305,7 +305,7 @@ pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()>
             points: ms(&main),
         }],
     )?;
-    let area_mm2: Vec<f64> = result.contact_area().iter().map(|a| a * 1e6).collect();
+    let area_mm2: Vec<f64> = signals.contact_area.iter().map(|a| a * 1e6).collect();
     line_chart(
         set,
         "contact_area",
@@ -324,7 +324,7 @@ pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()>
             .enumerate()
             .map(|(k, s)| Series {
                 label: s.name.clone(),
-                points: ms(&result.sensor(k)),
+                points: ms(&signals.sensors[k]),
             })
             .collect();
         line_chart(

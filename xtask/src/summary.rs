@@ -4,7 +4,8 @@
 
 use anyhow::Result;
 use tyreroad::multipoint::Convergence;
-use tyreroad::rolling::{RollingResult, StepStatus};
+use tyreroad::rolling::StepStatus;
+use tyreroad::scenario::output::steps_stream::NotConverged;
 use tyreroad::scenario::{StaticResult, TextureResult};
 
 /// Items listed one per line; beyond this many the rest are counted (each is
@@ -61,9 +62,9 @@ impl Fallbacks {
 
     /// The rolling steps not `converged`: stagnated (kept, looser residual)
     /// or failed (NaN in the outputs, bridged in the spectra).
-    pub fn from_rolling(r: &RollingResult) -> Self {
+    pub fn from_rolling(not_converged: &[NotConverged]) -> Self {
         let mut f = Self::default();
-        for s in &r.steps {
+        for s in not_converged {
             let what = match s.status {
                 StepStatus::Converged => continue,
                 StepStatus::Stagnated => format!(
@@ -145,37 +146,18 @@ mod tests {
 
     #[test]
     fn every_rolling_step_not_converged_is_listed_with_its_status() {
-        use tyreroad::rolling::{Recovery, StepRecord};
-        let step = |index: usize, status: StepStatus| StepRecord {
+        let step = |index: usize, status: StepStatus| NotConverged {
             index,
             position: 0.001 * index as f64,
-            time: 0.0,
-            total_force: 1.0,
-            approach: 1e-4,
-            contact_area: 0.0,
-            contacts: 1,
-            selected: 1,
-            iterations: 3,
             status,
-            recovery: Recovery::None,
             residual: 2e-9,
-            clearance: 1e-3,
-            overlapping: 0,
-            sensor_forces: Vec::new(),
-            contact_ids: vec![0],
-            contact_forces: vec![1.0],
         };
-        let result = RollingResult {
-            steps: vec![
-                step(0, StepStatus::Converged),
-                step(1, StepStatus::Stagnated),
-                step(2, StepStatus::Failed),
-            ],
-            sample_rate: 1000.0,
-            resumed: 0,
-            input_hash: 0,
-        };
-        let f = Fallbacks::from_rolling(&result);
+        let steps = [
+            step(0, StepStatus::Converged),
+            step(1, StepStatus::Stagnated),
+            step(2, StepStatus::Failed),
+        ];
+        let f = Fallbacks::from_rolling(&steps);
         assert_eq!(f.len(), 2);
         let lines = f.lines();
         assert!(

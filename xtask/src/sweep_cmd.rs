@@ -123,6 +123,11 @@ pub struct MpiRunArgs {
     /// Warm-up steps each rank solves before its part.
     #[arg(long, default_value_t = tyreroad_distributed::DEFAULT_WARMUP)]
     pub warmup: usize,
+    /// Rank 0 gathers every record, then writes (the way before records
+    /// were written as they arrive): the same files, with rank 0's memory
+    /// growing with the path; for comparisons (docs/performance.md).
+    #[arg(long)]
+    pub gather: bool,
 }
 
 /// `mpi-run`: the rolling run split over the ranks, written by rank 0.
@@ -140,8 +145,53 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
         progress: None,
         checkpoint_dir: Some(args.out.join("checkpoint")),
     };
-    if let Some(run) = mpi::roll(&universe.world(), &scenario, &options, args.warmup)? {
-        crate::rolling_cmd::report_rolling(&run, &args.out)?;
+    use tyreroad::scenario::ScenarioError;
+    use tyreroad::scenario::output::steps_stream::StepStream;
+    let world = universe.world();
+    if args.gather {
+        if let Some(run) = mpi::roll(&world, &scenario, &options, args.warmup)? {
+            crate::rolling_cmd::report_rolling(&run, &args.out)?;
+        }
+        return Ok(());
     }
+    // Rank 0 streams the records into the output set as they arrive
+    // (docs/distributed.md, "Gather and write"). A set that cannot be
+    // opened is reported at the first record, as rank 0's error, so the
+    // other ranks' messages are still received.
+    let mut writing = None;
+    if mpi::is_root(&world) {
+        let names: Vec<String> = scenario
+            .rolling_config()?
+            .sensors
+            .iter()
+            .map(|s| s.name.clone())
+            .collect();
+        writing = Some(
+            OutputSet::replacing(&args.out, "rolling").and_then(|mut set| {
+                let stream = StepStream::new(&mut set, &names)?;
+                Ok((set, stream))
+            }),
+        );
+    }
+    let mut sink = |record: tyreroad::rolling::StepRecord| -> Result<(), ScenarioError> {
+        match writing.as_mut() {
+            Some(Ok((_, stream))) => stream.push(&record),
+            Some(Err(_)) => match writing.take() {
+                Some(Err(e)) => Err(e),
+                _ => Err(ScenarioError::Invalid("no output set".into())),
+            },
+            None => Err(ScenarioError::Invalid("no output set".into())),
+        }
+    };
+    let Some(gathered) = mpi::roll_into(&world, &scenario, &options, args.warmup, &mut sink)?
+    else {
+        return Ok(());
+    };
+    let Some(Ok((mut set, stream))) = writing else {
+        anyhow::bail!("rank 0 has no output set");
+    };
+    let signals = stream.finish(&mut set, scenario.rolling_config()?.lateral)?;
+    let run = scenario.finish_streamed(&options, signals, gathered.resumed)?;
+    crate::rolling_cmd::report_streamed(&run, set, &args.out)?;
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! MPI runs against the single process (feature `mpi`; needs `mpirun`, run
 //! by `.ci/run`): `mpirun -np 1, 2, 3 xtask mpi-run` on a rolling fixture
 //! gives the time signals of `xtask run` to 1e-9 relative and identical
-//! spectra files; a rank's checkpoint is reused by a job on another number
+//! spectra files, and the records written as they arrive give every file
+//! of the records gathered first, to the byte; a rank's checkpoint is reused by a job on another number
 //! of ranks; a sweep of 12 runs over 3 ranks writes the rayon run's table.
 #![cfg(feature = "mpi")]
 #![allow(clippy::unwrap_used)]
@@ -85,6 +86,31 @@ fn assert_signals_equal(a: &Path, b: &Path, signal_columns: &[&str]) -> f64 {
     worst
 }
 
+/// The names in a folder, sorted (checkpoints left out).
+fn names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "checkpoint")
+        .collect();
+    names.sort();
+    names
+}
+
+/// The same files in both folders, every one the same bytes.
+fn assert_same_files(a: &Path, b: &Path) {
+    assert_eq!(names(a), names(b));
+    for name in names(a) {
+        let same = std::fs::read(a.join(&name)).unwrap() == std::fs::read(b.join(&name)).unwrap();
+        assert!(
+            same,
+            "{name} differs between {} and {}",
+            a.display(),
+            b.display()
+        );
+    }
+}
+
 #[test]
 fn rolling_on_1_2_3_ranks_equals_the_single_process() {
     let dir = scratch("roll");
@@ -125,6 +151,18 @@ fn rolling_on_1_2_3_ranks_equals_the_single_process() {
                 std::fs::read(single.join(same)).unwrap() == std::fs::read(out.join(same)).unwrap();
             assert!(same_bytes, "{same} differs on {ranks} ranks");
         }
+        // Rank 0 writes the records as they arrive; gathering them all
+        // first (`--gather`, the same parts on the same ranks, so the same
+        // records) writes every file, hidden ones included, to the byte.
+        let gathered = dir.join(format!("np{ranks}_gathered"));
+        run(mpirun(ranks)
+            .arg("mpi-run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(&gathered)
+            .arg("--gather"));
+        assert_same_files(&gathered, &out);
+        assert_eq!(names(&single), names(&out), "{ranks} ranks");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -3,13 +3,14 @@
 //!
 //! Messages (docs/distributed.md): a rolling run sends nothing while it
 //! steps; at the end every rank `r > 0` sends rank 0 one buffer, its
-//! records ([`crate::wire::encode_records`]) or its error. A sweep's
+//! records ([`crate::wire::encode_records`]) or its error, which rank 0
+//! hands on a record at a time to its writers ([`roll_into`]). A sweep's
 //! workers send rank 0 a request (empty) or a finished row, and get back
 //! the next run's number or [`STOP`].
 
 use mpi::traits::{Communicator, CommunicatorCollectives, Destination, Source};
-use tyreroad::scenario::{RollingRun, RunOptions, Scenario};
-use tyreroad_rolling::RollingResult;
+use tyreroad::scenario::{RollingRun, RunOptions, Scenario, ScenarioError};
+use tyreroad_rolling::{RollingResult, StepRecord};
 
 pub use mpi::environment::Universe;
 pub use mpi::topology::SimpleCommunicator;
@@ -18,7 +19,7 @@ use crate::DistributedError;
 use crate::plan::rank_range;
 use crate::sweep::{SweepRow, SweepRun};
 use crate::sweep::{decode_row, encode_row};
-use crate::wire::{decode_records, encode_records_owned};
+use crate::wire::{decode_records_each, encode_records_owned};
 
 /// The job number that tells a sweep worker to stop.
 pub const STOP: u64 = u64::MAX;
@@ -28,6 +29,11 @@ pub fn initialize() -> Option<Universe> {
     mpi::initialize()
 }
 
+/// Whether this process is rank 0 of `world` (the one that writes).
+pub fn is_root(world: &SimpleCommunicator) -> bool {
+    world.rank() == 0
+}
+
 fn rank_of(world: &SimpleCommunicator) -> (usize, usize) {
     (
         usize::try_from(world.rank()).unwrap_or(0),
@@ -35,25 +41,47 @@ fn rank_of(world: &SimpleCommunicator) -> (usize, usize) {
     )
 }
 
-/// Rolls `scenario`'s `[rolling]` path over the ranks of `world`: rank `r`
+/// What rank 0 learns of a distributed rolling run besides its records.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Gathered {
+    /// Records handed on (every step of the path, in order).
+    pub steps: usize,
+    /// Steps loaded from checkpoints instead of computed, over all ranks.
+    pub resumed: usize,
+    /// Hash of the inputs keying the checkpoints.
+    pub input_hash: u64,
+}
+
+/// Where rank 0 puts the path's records, one at a time, in path order.
+pub type RecordSink<'s> = dyn FnMut(StepRecord) -> Result<(), ScenarioError> + 's;
+
+/// Rolls `scenario`'s `[rolling]` path over the ranks of `world` and hands
+/// every record, in path order, to rank 0's `sink` as it arrives: rank `r`
 /// of `n` rolls the steps [`rank_range`]`(total, r, n)` started `warmup`
 /// steps early, checkpointing into `options.checkpoint_dir` (files named by
 /// step range, so the ranks never share one and a killed job resumes, even
-/// on another number of ranks), then every rank sends its records to rank
-/// 0, which finishes them into the run (road summary, spectra) exactly as a
-/// single process would. Returns the run on rank 0, `None` elsewhere.
+/// on another number of ranks). Rank 0 hands on its own records piece by
+/// piece as it rolls them (1 m of path at a time on a synthetic road), then
+/// each other rank's message, decoded a record at a time, in rank order:
+/// it never holds more than a piece of its own part or one rank's message
+/// (docs/distributed.md, "Gather and write"). Returns [`Gathered`] on rank
+/// 0, `None` elsewhere; the other ranks' `sink` is never called.
 ///
-/// Every rank must call it (it is collective).
+/// Every rank must call it (it is collective). After any error rank 0
+/// still receives every message (a rank must not wait forever on its
+/// send) but hands nothing more to `sink`.
 ///
 /// # Errors
-/// On rank 0: any rank's error (named by its rank) or a damaged message.
-/// On the other ranks: their own error, after it was sent to rank 0.
-pub fn roll(
+/// On rank 0: the first error, in rank order: any rank's (named by its
+/// rank), `sink`'s (as rank 0's), or a damaged message. On the other
+/// ranks: their own error, after it was sent to rank 0.
+pub fn roll_into(
     world: &SimpleCommunicator,
     scenario: &Scenario,
     options: &RunOptions<'_>,
     warmup: usize,
-) -> Result<Option<RollingRun>, DistributedError> {
+    sink: &mut RecordSink<'_>,
+) -> Result<Option<Gathered>, DistributedError> {
     let (rank, ranks) = rank_of(world);
     if let (0, Some(dir)) = (rank, &options.checkpoint_dir) {
         // Killed runs' temporary files go before any rank writes its own
@@ -62,15 +90,17 @@ pub fn roll(
         let _ = tyreroad_rolling::remove_unfinished_checkpoints(dir);
     }
     world.barrier();
-    let mine = scenario.rolling_steps().and_then(|total| {
-        let range = rank_range(total, rank, ranks);
-        if range.is_empty() {
-            // More ranks than steps: this one has nothing to roll.
-            return Ok(None);
-        }
-        scenario.roll_part(options, range, warmup).map(Some)
-    });
+    let part = scenario
+        .rolling_steps()
+        .map(|total| rank_range(total, rank, ranks));
     if rank > 0 {
+        let mine = part.and_then(|range| {
+            if range.is_empty() {
+                // More ranks than steps: this one has nothing to roll.
+                return Ok(None);
+            }
+            scenario.roll_part(options, range, warmup).map(Some)
+        });
         // The records are freed as they are encoded (a rank holds its part
         // once, not twice); the status byte leads.
         let (bytes, outcome) = match mine {
@@ -85,66 +115,113 @@ pub fn roll(
         world.process_at_rank(0).send(&bytes[..]);
         return outcome;
     }
-    let mut steps = Vec::new();
-    let mut resumed = 0;
-    let mut meta = None;
+    let mut gathered = Gathered {
+        steps: 0,
+        resumed: 0,
+        input_hash: 0,
+    };
     let mut first_error = None;
-    // Rank 0's own records are moved, not encoded: it holds one copy of
-    // each record, and one rank's message at a time.
-    match mine {
-        Ok(Some(part)) => {
-            resumed += part.resumed;
-            meta = Some((part.sample_rate, part.input_hash));
-            steps = part.steps;
+    // Rank 0's own records go on piece by piece, as they are rolled.
+    let own = part.and_then(|range| {
+        if range.is_empty() {
+            return Ok(());
         }
-        Ok(None) => {}
-        Err(ref e) => {
-            first_error = Some(DistributedError::Rank {
-                rank: 0,
-                message: e.to_string(),
-            });
-        }
+        scenario.roll_part_into(options, range, warmup, &mut |piece| {
+            gathered.resumed += piece.resumed;
+            gathered.input_hash = piece.input_hash;
+            for record in piece.steps {
+                sink(record)?;
+                gathered.steps += 1;
+            }
+            Ok(())
+        })
+    });
+    if let Err(e) = own {
+        first_error = Some(DistributedError::Rank {
+            rank: 0,
+            message: e.to_string(),
+        });
     }
-    // Room for the whole path at once (growing by doubling would hold up to
-    // twice the records at the last copy).
-    let total = scenario.rolling_steps().unwrap_or(0);
-    steps.reserve_exact(total.saturating_sub(steps.len()));
     for r in 1..ranks {
         let bytes = world
             .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
             .receive_vec::<u8>()
             .0;
+        if first_error.is_some() {
+            continue;
+        }
         match bytes.split_first() {
             Some((1, [])) => {}
             Some((1, body)) => {
-                let part = decode_records(body)?;
-                resumed += part.resumed;
-                meta = Some((part.sample_rate, part.input_hash));
-                steps.extend(part.steps);
+                let head = decode_records_each(body, &mut |record| {
+                    sink(record).map_err(|e| DistributedError::Rank {
+                        rank: 0,
+                        message: e.to_string(),
+                    })?;
+                    gathered.steps += 1;
+                    Ok(())
+                });
+                match head {
+                    Ok(head) => {
+                        gathered.resumed += head.resumed;
+                        gathered.input_hash = head.input_hash;
+                    }
+                    Err(e) => first_error = Some(e),
+                }
             }
             Some((_, why)) => {
-                first_error.get_or_insert_with(|| DistributedError::Rank {
+                first_error = Some(DistributedError::Rank {
                     rank: r,
                     message: String::from_utf8_lossy(why).into_owned(),
                 });
             }
             None => {
-                return Err(DistributedError::Wire(format!(
+                first_error = Some(DistributedError::Wire(format!(
                     "empty message from rank {r}"
                 )));
             }
         }
     }
-    if let Some(e) = first_error {
-        return Err(e);
+    match first_error {
+        Some(e) => Err(e),
+        None if gathered.steps == 0 => Err(DistributedError::Wire("no rank sent records".into())),
+        None => Ok(Some(gathered)),
     }
-    let (sample_rate, input_hash) =
-        meta.ok_or_else(|| DistributedError::Wire("no rank sent records".into()))?;
+}
+
+/// [`roll_into`] with rank 0 gathering every record and finishing them into
+/// the run (road summary, spectra) exactly as a single process would.
+/// Rank 0 holds every record of the path: for long paths write them as
+/// they arrive with [`roll_into`] instead. Returns the run on rank 0,
+/// `None` elsewhere. Every rank must call it (it is collective).
+///
+/// # Errors
+/// As [`roll_into`], and [`Scenario::finish_rolling`]'s.
+pub fn roll(
+    world: &SimpleCommunicator,
+    scenario: &Scenario,
+    options: &RunOptions<'_>,
+    warmup: usize,
+) -> Result<Option<RollingRun>, DistributedError> {
+    let mut steps = Vec::new();
+    if let Ok(total) = scenario.rolling_steps() {
+        // Room for the whole path at once (growing by doubling would hold
+        // up to twice the records at the last copy).
+        steps.reserve_exact(total);
+    }
+    let gathered = roll_into(world, scenario, options, warmup, &mut |record| {
+        steps.push(record);
+        Ok(())
+    })?;
+    let Some(gathered) = gathered else {
+        return Ok(None);
+    };
+    let config = scenario.rolling_config()?;
     let result = RollingResult {
         steps,
-        sample_rate,
-        resumed,
-        input_hash,
+        sample_rate: config.sample_rate(),
+        resumed: gathered.resumed,
+        input_hash: gathered.input_hash,
     };
     Ok(Some(scenario.finish_rolling(options, result)?))
 }

@@ -175,60 +175,102 @@ fn encode_record(w: &mut Writer, r: &StepRecord) {
 /// # Errors
 /// [`DistributedError::Wire`] for a truncated or damaged message.
 pub fn decode_records(bytes: &[u8]) -> Result<RollingResult, DistributedError> {
+    let mut steps = Vec::new();
+    let head = decode_records_each(bytes, &mut |record| {
+        steps.push(record);
+        Ok(())
+    })?;
+    Ok(RollingResult {
+        steps,
+        sample_rate: head.sample_rate,
+        resumed: head.resumed,
+        input_hash: head.input_hash,
+    })
+}
+
+/// What a message of records says besides its records.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PartHead {
+    /// Sampling rate `V/Δx` (Hz).
+    pub sample_rate: f64,
+    /// Steps of the part loaded from a checkpoint.
+    pub resumed: usize,
+    /// Hash of the inputs keying the checkpoint.
+    pub input_hash: u64,
+    /// Records in the message.
+    pub steps: usize,
+}
+
+/// [`decode_records`] one record at a time: each is handed to `each` as
+/// soon as it is decoded, so the receiver holds the message and one record,
+/// not the message and its records. `each`'s first error stops the
+/// decoding and is returned.
+///
+/// # Errors
+/// [`DistributedError::Wire`] for a truncated or damaged message (found
+/// where the damage is: the records before it were handed on), or `each`'s
+/// error.
+pub fn decode_records_each(
+    bytes: &[u8],
+    each: &mut dyn FnMut(StepRecord) -> Result<(), DistributedError>,
+) -> Result<PartHead, DistributedError> {
     let mut r = Reader::new(bytes);
     let sample_rate = r.f()?;
     let resumed = r.u()?;
     let input_hash = r.u()? as u64;
     let n = r.count(15 * 8)?;
-    let mut steps = Vec::with_capacity(n);
     for _ in 0..n {
-        let [index, contacts, selected, iterations, overlapping] =
-            [r.u()?, r.u()?, r.u()?, r.u()?, r.u()?];
-        let status = decode_code(&STATUSES, r.u()?, "status")?;
-        let recovery = decode_code(&RECOVERIES, r.u()?, "recovery")?;
-        let [
-            position,
-            time,
-            total_force,
-            approach,
-            contact_area,
-            residual,
-            clearance,
-        ] = [r.f()?, r.f()?, r.f()?, r.f()?, r.f()?, r.f()?, r.f()?];
-        let sensors = r.count(8)?;
-        let sensor_forces = (0..sensors).map(|_| r.f()).collect::<Result<_, _>>()?;
-        let m = r.count(16)?;
-        let (mut contact_ids, mut contact_forces) = (Vec::with_capacity(m), Vec::with_capacity(m));
-        for _ in 0..m {
-            contact_ids.push(r.u()?);
-            contact_forces.push(r.f()?);
-        }
-        steps.push(StepRecord {
-            index,
-            position,
-            time,
-            total_force,
-            approach,
-            contact_area,
-            contacts,
-            selected,
-            iterations,
-            status,
-            recovery,
-            residual,
-            clearance,
-            overlapping,
-            sensor_forces,
-            contact_ids,
-            contact_forces,
-        });
+        each(decode_record(&mut r)?)?;
     }
     r.finished()?;
-    Ok(RollingResult {
-        steps,
+    Ok(PartHead {
         sample_rate,
         resumed,
         input_hash,
+        steps: n,
+    })
+}
+
+fn decode_record(r: &mut Reader<'_>) -> Result<StepRecord, DistributedError> {
+    let [index, contacts, selected, iterations, overlapping] =
+        [r.u()?, r.u()?, r.u()?, r.u()?, r.u()?];
+    let status = decode_code(&STATUSES, r.u()?, "status")?;
+    let recovery = decode_code(&RECOVERIES, r.u()?, "recovery")?;
+    let [
+        position,
+        time,
+        total_force,
+        approach,
+        contact_area,
+        residual,
+        clearance,
+    ] = [r.f()?, r.f()?, r.f()?, r.f()?, r.f()?, r.f()?, r.f()?];
+    let sensors = r.count(8)?;
+    let sensor_forces = (0..sensors).map(|_| r.f()).collect::<Result<_, _>>()?;
+    let m = r.count(16)?;
+    let (mut contact_ids, mut contact_forces) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    for _ in 0..m {
+        contact_ids.push(r.u()?);
+        contact_forces.push(r.f()?);
+    }
+    Ok(StepRecord {
+        index,
+        position,
+        time,
+        total_force,
+        approach,
+        contact_area,
+        contacts,
+        selected,
+        iterations,
+        status,
+        recovery,
+        residual,
+        clearance,
+        overlapping,
+        sensor_forces,
+        contact_ids,
+        contact_forces,
     })
 }
 
@@ -277,6 +319,18 @@ mod tests {
         assert_eq!(owned.capacity(), owned.len());
         let back = decode_records(&bytes).unwrap();
         assert_eq!(format!("{back:?}"), format!("{result:?}"));
+        // One record at a time: the same records, in order, and the head.
+        let mut one_by_one = Vec::new();
+        let head = decode_records_each(&bytes, &mut |s| {
+            one_by_one.push(s);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(format!("{one_by_one:?}"), format!("{:?}", result.steps));
+        assert_eq!(
+            (head.resumed, head.steps, head.sample_rate.to_bits()),
+            (2, result.steps.len(), result.sample_rate.to_bits())
+        );
         assert!(back.steps.iter().any(|s| !s.contact_ids.is_empty()));
         assert!(decode_records(&bytes[..bytes.len() - 1]).is_err());
         let mut longer = bytes.clone();
