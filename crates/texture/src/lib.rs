@@ -128,6 +128,7 @@ pub mod indicators;
 pub mod io;
 pub mod roads;
 pub mod segment;
+mod segment_taint;
 pub mod segment_window;
 pub mod synth;
 

@@ -9,7 +9,7 @@ use tyreroad_core::validate;
 
 use crate::error::TextureError;
 use crate::heightmap::HeightMap;
-use crate::segment_window::Taint;
+use crate::segment_taint::Taint;
 
 /// Label of a grid point that belongs to no asperity (invalid points, and
 /// points of rejected islands).
