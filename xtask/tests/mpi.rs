@@ -3,7 +3,9 @@
 //! gives the time signals of `xtask run` to 1e-9 relative and identical
 //! spectra files, and the records written as they arrive give every file
 //! of the records gathered first, to the byte; a rank's checkpoint is reused by a job on another number
-//! of ranks; a sweep of 12 runs over 3 ranks writes the rayon run's table.
+//! of ranks; a sweep of 12 runs over 3 ranks writes the rayon run's table;
+//! a `.npy` texture, read by windows on every rank, gives the single
+//! process's signals on 2 and 3 ranks.
 #![cfg(feature = "mpi")]
 #![allow(clippy::unwrap_used)]
 
@@ -249,6 +251,116 @@ fn a_sweep_over_3_ranks_writes_the_rayon_table() {
         let same_bytes =
             std::fs::read(local.join(&name)).unwrap() == std::fs::read(ranks.join(&name)).unwrap();
         assert!(same_bytes, "{name} differs");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Writes `map` as a float64 C-order `.npy` with its spacing sidecar.
+fn write_npy(map: &tyreroad::texture::HeightMap, path: &Path) {
+    use std::io::Write;
+    let mut header = format!(
+        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {}), }}",
+        map.ny(),
+        map.nx()
+    );
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut f = std::fs::File::create(path).unwrap();
+    f.write_all(b"\x93NUMPY\x01\x00").unwrap();
+    f.write_all(&(header.len() as u16).to_le_bytes()).unwrap();
+    f.write_all(header.as_bytes()).unwrap();
+    let bytes: Vec<u8> = map.heights().iter().flat_map(|v| v.to_le_bytes()).collect();
+    f.write_all(&bytes).unwrap();
+    let mut sidecar = path.as_os_str().to_os_string();
+    sidecar.push(".spacing");
+    std::fs::write(sidecar, format!("{:e} {:e}\n", map.dx(), map.dy())).unwrap();
+}
+
+/// A `[texture]` road given as a `.npy` is read by windows on every rank
+/// (docs/distributed.md, "Road windows (texture roads, `.npy`)"): the MPI
+/// job on 2 and 3 ranks gives the single process's signals to 1e-9 and
+/// its spectra and road files byte for byte.
+#[test]
+fn a_npy_texture_on_2_and_3_ranks_equals_the_single_process() {
+    use tyreroad::texture::{Aggregate, aggregate};
+    let dir = scratch("texture");
+    let mut synth = Aggregate::new(800, 160, 0.25e-3, 0.25e-3, Aggregate::grading_4_6(), 11);
+    synth.coverage = 1.3;
+    synth.embedding = (0.6, 0.8);
+    write_npy(&aggregate(&synth).unwrap(), &dir.join("road.npy"));
+    let scenario = dir.join("texture_mpi.toml");
+    std::fs::write(
+        &scenario,
+        r#"
+name = "texture_mpi"
+[material]
+youngs_modulus = "6.54 MPa"
+poisson_ratio = 0.5
+[rolling]
+start = "40 mm"
+end = "160 mm"
+step = "2 mm"
+speed = "50 km/h"
+margin = "0 mm"
+reference_force = "1 N"
+checkpoint = false
+[rolling.tread]
+kind = "tyre"
+radius_x = "0.3 m"
+radius_y = "0.5 m"
+length = "60 mm"
+width = "40 mm"
+[rolling.control]
+load = "300 N"
+[[rolling.sensor]]
+name = "centre"
+x0 = "90 mm"
+x1 = "110 mm"
+y0 = "-10 mm"
+y1 = "10 mm"
+[texture]
+file = "road.npy"
+min_prominence = "0.1 mm"
+min_area = "1 mm2"
+"#,
+    )
+    .unwrap();
+    let single = dir.join("single");
+    run(Command::new(XTASK)
+        .arg("run")
+        .arg(&scenario)
+        .arg("--out")
+        .arg(&single));
+    for ranks in [2, 3] {
+        let out = dir.join(format!("np{ranks}"));
+        run(mpirun(ranks)
+            .arg("mpi-run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(&out));
+        let worst = assert_signals_equal(
+            &single.join("time_signals.csv"),
+            &out.join("time_signals.csv"),
+            &[
+                "total_force_n",
+                "approach_m",
+                "contact_area_m2",
+                "n_contacts",
+            ],
+        );
+        assert_signals_equal(
+            &single.join("sensors.csv"),
+            &out.join("sensors.csv"),
+            &["centre_n"],
+        );
+        println!("texture, {ranks} ranks: largest relative difference {worst:.2e}");
+        for same in ["third_octave.csv", "road.npz"] {
+            let same_bytes =
+                std::fs::read(single.join(same)).unwrap() == std::fs::read(out.join(same)).unwrap();
+            assert!(same_bytes, "{same} differs on {ranks} ranks");
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
