@@ -1,7 +1,13 @@
 //! Each rung of the fidelity ladder (`tyreroad::fidelity`) on a road-like
-//! field of 1500 summits: the static solve with Wilke laws and with
-//! BEM-calibrated laws (point coupling both), and the calibration of one
-//! cap. The rung `distributed` is not available yet and is not measured.
+//! field of 1500 summits: the static solve on every rung of
+//! `fidelity::RUNGS` (Wilke laws, point coupling; BEM-calibrated laws with
+//! point coupling, distributed near-pair coupling, clusters), and the
+//! calibration of one cap.
+//! And rolling (issue #15: "the rolling fixture with the best rung must
+//! stay within 3× of its time today"): 40 steps of the chip-seal fixture
+//! (`fixtures/rolling_tyre_chip_seal.toml`) on its Wilke road and on its
+//! calibrated road, the calibration done once before timing (a later run
+//! reading its tables back from the checkpoint folder pays only the steps).
 //!
 //! The field: `multipoint::layouts::road_like_field` (mean spacing 3 mm,
 //! summit heights over 0.5 mm), its radii rounded to 0.5 mm classes so the
@@ -12,7 +18,9 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::PotentialLaw;
-use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, calibrate};
+use tyreroad::fidelity::{
+    CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, LawSource, RUNGS, calibrate,
+};
 use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
 
 #[path = "common/mod.rs"]
@@ -74,27 +82,24 @@ fn bench_rungs(c: &mut Criterion) {
     let wilke = Problem::new(positions.clone(), gaps.clone(), wilke_laws, rubber()).expect("set");
     let calibrated = Problem::new(positions, gaps, calibrated_laws, rubber()).expect("set");
     let load = tyre_like_load(N);
-    let opts = SolverOptions::default();
     let mut group = c.benchmark_group("fidelity/road_like_1500");
     group.sample_size(10);
-    for (name, s) in [
-        ("wilke", solve(&wilke, Control::Load(load), &opts)),
-        ("calibrated", solve(&calibrated, Control::Load(load), &opts)),
-    ] {
-        let s = s.expect("converges");
+    for fidelity in RUNGS {
+        let rung = fidelity.rung(&SolverOptions::default()).expect("rung");
+        let run = || match rung.laws {
+            LawSource::Potential => solve(&wilke, Control::Load(load), &rung.solver),
+            LawSource::Calibrated => solve(&calibrated, Control::Load(load), &rung.solver),
+        };
+        let s = run().expect("converges");
         eprintln!(
-            "{name}: {load:.0} N, {} in contact, approach {:.1} µm, {} iterations",
+            "{}: {load:.0} N, {} in contact, approach {:.1} µm, {} iterations",
+            fidelity.name(),
             s.contact_count(),
             s.approach * 1e6,
             s.iterations
         );
+        group.bench_function(fidelity.name(), |b| b.iter(|| run().expect("converges")));
     }
-    group.bench_function("wilke", |b| {
-        b.iter(|| solve(&wilke, Control::Load(load), &opts).expect("converges"))
-    });
-    group.bench_function("calibrated", |b| {
-        b.iter(|| solve(&calibrated, Control::Load(load), &opts).expect("converges"))
-    });
     group.bench_function("calibrate_one_cap_R3mm", |b| {
         let patch = sphere_patch(3e-3);
         b.iter(|| calibrate(&patch, DEPTH, &rubber(), &CalibrationOptions::default()).expect("ok"))
@@ -102,5 +107,45 @@ fn bench_rungs(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_rungs);
+/// Steps of the chip-seal path timed by [`bench_rolling`].
+const ROLLING_STEPS: usize = 40;
+
+fn bench_rolling(c: &mut Criterion) {
+    use tyreroad::rolling::{RunOptions, roll};
+    use tyreroad::scenario::Scenario;
+    use tyreroad::shared::Par;
+
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let text =
+        std::fs::read_to_string(fixture.join("rolling_tyre_chip_seal.toml")).expect("fixture");
+    let scenario = Scenario::parse(&text, "rolling_tyre_chip_seal.toml").expect("scenario");
+    let material = scenario.material().expect("material");
+    let mut config = scenario.rolling_config().expect("rolling");
+    config.end = config.start + (ROLLING_STEPS - 1) as f64 * config.step;
+    let wilke = scenario.texture_rolling_road(&fixture).expect("road");
+    let t = std::time::Instant::now();
+    let calibrated = scenario
+        .calibrated_texture_rolling_road(&fixture, &config, Par::rayon(0), None)
+        .expect("calibration");
+    eprintln!(
+        "calibration of {} selectable asperities: {:.1} s",
+        calibrated.len(),
+        t.elapsed().as_secs_f64()
+    );
+    let options = RunOptions {
+        par: Par::rayon(0),
+        ..RunOptions::default()
+    };
+    let mut group = c.benchmark_group("fidelity/rolling_chip_seal_40_steps");
+    group.sample_size(10);
+    group.bench_function("wilke", |b| {
+        b.iter(|| roll(&wilke, material, &config, &options).expect("roll"))
+    });
+    group.bench_function("calibrated", |b| {
+        b.iter(|| roll(&calibrated, material, &config, &options).expect("roll"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_rungs, bench_rolling);
 criterion_main!(benches);

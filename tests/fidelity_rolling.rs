@@ -220,3 +220,27 @@ fn a_checkpointed_calibrated_run_keeps_its_tables_for_the_next() -> TestResult {
     assert_eq!(a, b);
     Ok(())
 }
+
+#[test]
+fn the_calibrated_rolling_road_rolls_as_the_calibrated_scenario_does() -> TestResult {
+    let s = Scenario::parse(&rolling_scenario("calibrated"), "calibrated")?;
+    let config = s.rolling_config()?;
+    let base = std::path::Path::new(".");
+    let par = tyreroad::shared::Par::Seq;
+    let road = s.calibrated_texture_rolling_road(base, &config, par, None)?;
+    let wilke = s.texture_rolling_road(base)?;
+    // Only the asperities the path can select are kept, each at its place
+    // on the Wilke road.
+    assert!(!road.is_empty() && road.len() <= wilke.len());
+    for p in road.positions() {
+        assert!(wilke.positions().contains(p), "{p:?}");
+    }
+    let run = roll(&road, s.material()?, &config, &RunOptions::default())?;
+    let from_road: Vec<f64> = run.steps.iter().map(|s| s.approach).collect();
+    let from_scenario = approaches("calibrated")?;
+    assert_eq!(from_road.len(), from_scenario.len());
+    for (a, b) in from_road.iter().zip(&from_scenario) {
+        assert!((a - b).abs() <= 1e-9 * b, "{a} vs {b}");
+    }
+    Ok(())
+}

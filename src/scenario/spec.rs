@@ -447,6 +447,37 @@ impl Scenario {
         Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
     }
 
+    /// [`Scenario::texture_rolling_road`] on the `calibrated` rung: the
+    /// asperities `config`'s path can select, each with its cap's
+    /// BEM-calibrated law, calibrated once on `par`'s threads (tables kept
+    /// in and read back from `cache` when given; docs/validation.md,
+    /// "Calibrated laws in rolling"). For callers that time or roll the
+    /// calibrated road apart from its calibration (`benches/fidelity.rs`).
+    ///
+    /// # Errors
+    /// As [`Scenario::texture_rolling_road`], and any calibration error.
+    pub fn calibrated_texture_rolling_road(
+        &self,
+        base_dir: &Path,
+        config: &tyreroad_rolling::RollingConfig,
+        par: tyreroad_multipoint::Par,
+        cache: Option<&Path>,
+    ) -> Result<tyreroad_rolling::Road<crate::fidelity::CalibratedLaw>> {
+        let texture = self
+            .texture
+            .as_ref()
+            .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
+        let (set, _, radii) = super::texture::calibrated_texture_road_set(
+            texture,
+            base_dir,
+            self.material()?,
+            config,
+            par,
+            cache,
+        )?;
+        Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
+    }
+
     /// Asperity labels, in file order.
     pub fn ids(&self) -> Vec<u32> {
         self.asperities
