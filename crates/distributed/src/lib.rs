@@ -36,6 +36,7 @@
 //! - without the `mpi` feature nothing here needs a system library.
 
 pub mod plan;
+pub mod spill;
 pub mod sweep;
 pub mod wire;
 
