@@ -2,9 +2,10 @@
 //! ranks, and a sweep handed out run by run.
 //!
 //! Messages (docs/distributed.md): a rolling run sends nothing while it
-//! steps; at the end every rank `r > 0` sends rank 0 one buffer, its
-//! records ([`crate::wire::encode_records`]) or its error, which rank 0
-//! hands on a record at a time to its writers ([`roll_into`]). A sweep's
+//! steps; at the end every rank `r > 0` sends rank 0 its part's head
+//! ([`crate::spill::encode_head`]) and its records in chunks read back
+//! from its spill file, or its error, which rank 0 hands on a record at a
+//! time to its writers ([`roll_into`]). A sweep's
 //! workers send rank 0 a request (empty) or a finished row, and get back
 //! the next run's number or [`STOP`].
 
@@ -63,9 +64,10 @@ pub type RecordSink<'s> = dyn FnMut(StepRecord) -> Result<(), ScenarioError> + '
 /// step range, so the ranks never share one and a killed job resumes, even
 /// on another number of ranks). Rank 0 hands on its own records piece by
 /// piece as it rolls them (1 m of path at a time on a synthetic road), then
-/// each other rank's message, decoded a record at a time, in rank order:
-/// it never holds more than a piece of its own part or one rank's message
-/// (docs/distributed.md, "Gather and write"). Returns [`Gathered`] on rank
+/// each other rank's chunks, in rank order, decoded a record at a time as
+/// they come: it never holds more than a piece of its own part or one
+/// chunk, and a rank `r > 0` never more than a piece and a chunk, its part
+/// waiting in its spill file (docs/distributed.md, "Gather and write"). Returns [`Gathered`] on rank
 /// 0, `None` elsewhere; the other ranks' `sink` is never called.
 ///
 /// Every rank must call it (it is collective). After any error rank 0
@@ -167,11 +169,9 @@ fn send_part(
             // More ranks than steps: this one has nothing to roll.
             return Ok(None);
         }
-        let dir = options
-            .checkpoint_dir
-            .clone()
-            .unwrap_or_else(std::env::temp_dir);
-        let mut spill = RecordSpill::create(&dir, rank)?;
+        // The node's scratch ($TMPDIR), not the output folder: rank 0
+        // swaps that folder in whole at the end (docs/distributed.md).
+        let mut spill = RecordSpill::create(&std::env::temp_dir(), rank)?;
         let mut spill_error = None;
         let rolled = scenario.roll_part_into(options, range, warmup, &mut |piece| {
             spill.push(piece).map_err(|e| {

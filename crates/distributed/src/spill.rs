@@ -49,7 +49,7 @@ pub struct RecordSpill {
 impl RecordSpill {
     /// An empty spill file for `rank` in `dir` (created if missing), named
     /// by rank and process so that ranks sharing a directory never share a
-    /// file.
+    /// file, and unlinked as soon as it is open (Unix).
     ///
     /// # Errors
     /// [`DistributedError::Wire`] when the file cannot be created.
@@ -63,6 +63,10 @@ impl RecordSpill {
             .truncate(true)
             .open(&path)
             .map_err(|e| io_error("creating", &path, &e))?;
+        // Unnamed at once where the system allows it (Unix): the open file
+        // is still read and written, and nothing is left behind by a
+        // killed rank; elsewhere the file is removed on drop.
+        let _ = std::fs::remove_file(&path);
         Ok(Self {
             path,
             file: BufWriter::new(file),
@@ -141,8 +145,8 @@ impl RecordSpill {
 
 impl Drop for RecordSpill {
     fn drop(&mut self) {
-        // A spill file left behind (a full disk, a killed rank) holds only
-        // a copy of records the checkpoints keep too.
+        // Already gone on Unix (unlinked when opened); elsewhere this is
+        // where it goes.
         let _ = std::fs::remove_file(&self.path);
     }
 }
@@ -358,7 +362,7 @@ mod tests {
             assert!(chunks.done());
             assert_eq!(sent, encode_records(&whole)[32..]);
             assert_eq!(format!("{back:?}"), format!("{:?}", whole.steps));
-            // The spill file is gone once sent.
+            // The spill file leaves no name behind.
             assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
         }
     }
