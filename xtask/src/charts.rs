@@ -90,6 +90,10 @@ pub const CHART_POINTS: usize = 4000;
 /// Time columns a long signal is reduced to: about a pixel column each.
 pub const CHART_COLUMNS: usize = 1000;
 
+/// A column being reduced: its number, and its lowest and highest point,
+/// each with its place in the input.
+type Column = (usize, (usize, (f64, f64)), (usize, (f64, f64)));
+
 /// Points ordered by `x` in `x_span`, reduced to at most two per column
 /// of `columns` equal columns of the span: the lowest and the highest
 /// point of each, in their original order, so a peak or a dip of a single
@@ -110,20 +114,18 @@ pub fn min_max_columns(
     };
     let mut out = Vec::with_capacity(2 * columns);
     // The current column, its lowest and highest point with their order.
-    let mut current: Option<(usize, (usize, (f64, f64)), (usize, (f64, f64)))> = None;
-    let flush =
-        |out: &mut Vec<(f64, f64)>,
-         (_, low, high): (usize, (usize, (f64, f64)), (usize, (f64, f64)))| {
-            let (first, second) = if low.0 <= high.0 {
-                (low, high)
-            } else {
-                (high, low)
-            };
-            out.push(first.1);
-            if second.0 != first.0 {
-                out.push(second.1);
-            }
+    let mut current: Option<Column> = None;
+    let flush = |out: &mut Vec<(f64, f64)>, (_, low, high): Column| {
+        let (first, second) = if low.0 <= high.0 {
+            (low, high)
+        } else {
+            (high, low)
         };
+        out.push(first.1);
+        if second.0 != first.0 {
+            out.push(second.1);
+        }
+    };
     for (k, p) in points.enumerate() {
         let c = column(p.0);
         match current.as_mut() {

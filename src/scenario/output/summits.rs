@@ -137,41 +137,46 @@ pub fn write_road_npz_from(
     source: &dyn SummitSource,
 ) -> Result<(), ScenarioError> {
     let n = source.count();
-    // Each member's body lists exactly `n` values: its header said so.
-    let walk =
-        |w: &mut dyn Write, part: &dyn Fn([f64; 2], f64, &mut dyn Write) -> std::io::Result<()>| {
-            let mut seen = 0usize;
-            source.each(&mut |p, z| {
-                seen += 1;
-                if seen > n {
-                    return Err(std::io::Error::other(format!(
-                        "the road lists more summits than its {n}"
-                    )));
-                }
-                part(p, z, w)
-            })?;
-            if seen == n {
-                Ok(())
-            } else {
-                Err(std::io::Error::other(format!(
-                    "the road lists {seen} summits, not its {n}"
-                )))
-            }
-        };
     let mut npz = NpzStream::create(set, "road.npz")?;
     npz.member("ids", &[n], Element::U64, &mut |w| {
         (0..n as u64).try_for_each(|id| w.write_all(&id.to_le_bytes()))
     })?;
     npz.member("positions", &[n, 2], Element::F64, &mut |w| {
-        walk(w, &|p, _, w| {
+        walk(source, w, |p, _, w| {
             w.write_all(&p[0].to_le_bytes())?;
             w.write_all(&p[1].to_le_bytes())
         })
     })?;
     npz.member("heights", &[n], Element::F64, &mut |w| {
-        walk(w, &|_, z, w| w.write_all(&z.to_le_bytes()))
+        walk(source, w, |_, z, w| w.write_all(&z.to_le_bytes()))
     })?;
     npz.finish()
+}
+
+/// What a member of `road.npz` writes of one summit.
+type Field = fn([f64; 2], f64, &mut dyn Write) -> std::io::Result<()>;
+
+/// Writes `field` of every summit of `source` to `w`: exactly
+/// `source.count()` of them, since the member's header announced as many.
+fn walk(source: &dyn SummitSource, w: &mut dyn Write, field: Field) -> std::io::Result<()> {
+    let n = source.count();
+    let mut seen = 0usize;
+    source.each(&mut |p, z| {
+        seen += 1;
+        if seen > n {
+            return Err(std::io::Error::other(format!(
+                "the road lists more summits than its {n}"
+            )));
+        }
+        field(p, z, w)
+    })?;
+    if seen == n {
+        Ok(())
+    } else {
+        Err(std::io::Error::other(format!(
+            "the road lists {seen} summits, not its {n}"
+        )))
+    }
 }
 
 #[cfg(test)]
