@@ -17,6 +17,7 @@ use serde::Serialize;
 use super::ScenarioError;
 
 pub mod steps_stream;
+pub mod summits;
 pub mod swap;
 
 /// The name prefix of a set's staging directory inside its output folder.

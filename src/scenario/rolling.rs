@@ -9,6 +9,7 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
+use super::output::summits::{SummitSlices, SummitSource};
 use super::texture::{TextureSummary, calibrated_texture_road_set, texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::fidelity::Fidelity;
@@ -123,11 +124,8 @@ pub(crate) enum What {
 pub(crate) enum Rolled {
     Run(Box<RollingRun>),
     Part(rolling::RollingResult),
-    Road(RoadSummary, Summits),
+    Road(RoadSummary, Box<dyn SummitSource>),
 }
-
-/// A road's summit positions `(x, y)` and heights (m), in id order.
-pub(crate) type Summits = (Vec<[f64; 2]>, Vec<f64>);
 
 /// Runs `[rolling]` on the scenario's road.
 pub(crate) fn run_rolling(
@@ -248,10 +246,15 @@ pub(crate) fn rolling_on_road(
                         )
                     })
                 }
+                // Streamed, not held: `road.npz` walks them once per
+                // member (docs/distributed.md, "Memory per rank").
                 What::Road => {
-                    let summits = synth.summits()?;
-                    let count = summits.0.len();
-                    Ok(Rolled::Road(RoadSummary::Synthetic { count }, summits))
+                    let summits = synth.summit_stream()?;
+                    let count = summits.count();
+                    Ok(Rolled::Road(
+                        RoadSummary::Synthetic { count },
+                        Box::new(summits),
+                    ))
                 }
                 // Records rolled elsewhere: the outputs need the summits'
                 // positions and heights, not their laws.
@@ -310,8 +313,11 @@ fn roll_road<L: ContactLaw + Sync>(
     what: What,
 ) -> Result<Rolled, ScenarioError> {
     if let What::Road = what {
-        let summits = (road.positions().to_vec(), road.heights().to_vec());
-        return Ok(Rolled::Road(summary, summits));
+        let summits = SummitSlices {
+            positions: road.positions().to_vec(),
+            heights: road.heights().to_vec(),
+        };
+        return Ok(Rolled::Road(summary, Box::new(summits)));
     }
     let config = scenario.rolling_config()?;
     let checkpoint = options
@@ -629,14 +635,18 @@ pub(super) fn spectra_of(
     // A Welch periodogram needs every sample: failed steps are bridged by
     // linear interpolation, and their count reported with the spectra.
     let (primary, interpolated_samples) = rolling::interpolate_failed(primary);
-    let spectrum = |signal: &[f64], r: f64| {
-        let (signal, _) = rolling::interpolate_failed(signal);
-        rolling::third_octave(&signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
+    let third_octave = |signal: &[f64], r: f64| {
+        rolling::third_octave(signal, fs, r, spec.segment).map_err(|source| ScenarioError::Core {
             context: "one-third-octave spectrum".into(),
             source,
         })
     };
-    let levels = spectrum(&primary, primary_reference)?;
+    let spectrum = |signal: &[f64], r: f64| {
+        let (signal, _) = rolling::interpolate_failed(signal);
+        third_octave(&signal, r)
+    };
+    // Bridged already: a second copy would only repeat it.
+    let levels = third_octave(&primary, primary_reference)?;
     let segment = spec
         .segment
         .unwrap_or_else(|| rolling::default_segment_len(primary.len()));

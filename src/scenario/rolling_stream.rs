@@ -7,19 +7,20 @@
 use tyreroad_rolling as rolling;
 
 use super::output::steps_stream::StepSignals;
+use super::output::summits::SummitSource;
 use super::rolling::{Rolled, Signals, What, roll_part_into, rolling_on_road, spectra_of};
 use super::{RoadSummary, RunOptions, Scenario, ScenarioError, Spectra};
 
 /// A rolling run finished from its signals: what the end-of-run outputs
 /// (spectra, charts, `road.npz`) and the summary need.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct StreamedRun {
     /// The road rolled on.
     pub road: RoadSummary,
-    /// Summit positions `(x, y)` (m) of the road's asperities, in id order.
-    pub road_positions: Vec<[f64; 2]>,
-    /// Summit heights (m), same order.
-    pub road_heights: Vec<f64>,
+    /// The road's summits, listed on demand (a synthetic road replays
+    /// them rather than holding them; `road.npz` is written from this by
+    /// [`write_road_npz_from`](super::output::summits::write_road_npz_from)).
+    pub summits: Box<dyn SummitSource>,
     /// The configuration the spec described.
     pub config: rolling::RollingConfig,
     /// The steps' signals and counters.
@@ -77,9 +78,7 @@ impl Scenario {
                 signals.len()
             )));
         }
-        let Rolled::Road(road, (road_positions, road_heights)) =
-            rolling_on_road(self, spec, options, What::Road)?
-        else {
+        let Rolled::Road(road, summits) = rolling_on_road(self, spec, options, What::Road)? else {
             return Err(ScenarioError::Invalid("no road summary".into()));
         };
         let spectra = spectra_of(
@@ -94,8 +93,7 @@ impl Scenario {
         )?;
         Ok(StreamedRun {
             road,
-            road_positions,
-            road_heights,
+            summits,
             config,
             signals,
             resumed,
@@ -111,6 +109,7 @@ mod tests {
 
     use super::super::output::OutputSet;
     use super::super::output::steps_stream::StepStream;
+    use super::super::output::summits::collect_summits;
     use super::super::{Par, ScenarioResult};
     use super::*;
 
@@ -150,8 +149,9 @@ mod tests {
                 .finish_streamed(&options, signals, resumed)
                 .unwrap();
             assert_eq!(run.road, whole.road);
-            assert_eq!(run.road_positions, whole.road_positions);
-            assert_eq!(run.road_heights, whole.road_heights);
+            let summits = collect_summits(run.summits.as_ref()).unwrap();
+            assert_eq!(summits.positions, whole.road_positions);
+            assert_eq!(summits.heights, whole.road_heights);
             let approach = whole.result.approach();
             if parts.len() == 1 {
                 assert_eq!(run.spectra, whole.spectra);

@@ -83,6 +83,74 @@ pub fn line_chart(
     Ok(())
 }
 
+/// Steps of a time signal up to which a chart draws every point (and its
+/// marker); longer signals are reduced by [`min_max_columns`].
+pub const CHART_POINTS: usize = 4000;
+
+/// Time columns a long signal is reduced to: about a pixel column each.
+pub const CHART_COLUMNS: usize = 1000;
+
+/// A column being reduced: its number, and its lowest and highest point,
+/// each with its place in the input.
+type Column = (usize, (usize, (f64, f64)), (usize, (f64, f64)));
+
+/// Points ordered by `x` in `x_span`, reduced to at most two per column
+/// of `columns` equal columns of the span: the lowest and the highest
+/// point of each, in their original order, so a peak or a dip of a single
+/// point is still drawn. Memory and output `O(columns)`, not `O(points)`.
+pub fn min_max_columns(
+    points: impl Iterator<Item = (f64, f64)>,
+    columns: usize,
+    [x0, x1]: [f64; 2],
+) -> Vec<(f64, f64)> {
+    let columns = columns.max(1);
+    let width = (x1 - x0) / columns as f64;
+    let column = |x: f64| -> usize {
+        if width > 0.0 {
+            (((x - x0) / width).floor().max(0.0) as usize).min(columns - 1)
+        } else {
+            0
+        }
+    };
+    let mut out = Vec::with_capacity(2 * columns);
+    // The current column, its lowest and highest point with their order.
+    let mut current: Option<Column> = None;
+    let flush = |out: &mut Vec<(f64, f64)>, (_, low, high): Column| {
+        let (first, second) = if low.0 <= high.0 {
+            (low, high)
+        } else {
+            (high, low)
+        };
+        out.push(first.1);
+        if second.0 != first.0 {
+            out.push(second.1);
+        }
+    };
+    for (k, p) in points.enumerate() {
+        let c = column(p.0);
+        match current.as_mut() {
+            Some((col, low, high)) if *col == c => {
+                if p.1 < low.1.1 {
+                    *low = (k, p);
+                }
+                if p.1 > high.1.1 {
+                    *high = (k, p);
+                }
+            }
+            _ => {
+                if let Some(done) = current.take() {
+                    flush(&mut out, done);
+                }
+                current = Some((c, (k, p), (k, p)));
+            }
+        }
+    }
+    if let Some(done) = current {
+        flush(&mut out, done);
+    }
+    out
+}
+
 /// Draws the chart on any plotters backend.
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
@@ -148,4 +216,44 @@ fn draw<DB: DrawingBackend>(
         root.present().map_err(|e| anyhow!("{e}"))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A long noisy signal with one spike and one dip of a single sample:
+    /// at most two points per column, all of them input points, in order,
+    /// and the spike, the dip and each column's extremes are kept (checked
+    /// against a direct per-column search).
+    #[test]
+    fn min_max_columns_keeps_every_column_extreme() {
+        let n = 100_000;
+        let y = |k: usize| -> f64 {
+            match k {
+                31_337 => 50.0,
+                77_001 => -50.0,
+                _ => ((k * 7919) % 1000) as f64 * 1e-3,
+            }
+        };
+        let points: Vec<(f64, f64)> = (0..n).map(|k| (k as f64 * 0.01, y(k))).collect();
+        let span = [0.0, (n - 1) as f64 * 0.01];
+        let kept = min_max_columns(points.iter().copied(), 1000, span);
+        assert!(kept.len() <= 2000 && kept.len() >= 1000, "{}", kept.len());
+        assert!(kept.windows(2).all(|w| w[0].0 <= w[1].0));
+        assert!(kept.iter().all(|p| points.contains(p)));
+        assert!(kept.contains(&points[31_337]) && kept.contains(&points[77_001]));
+        let width = span[1] / 1000.0;
+        for c in 0..1000 {
+            let inside = |p: &&(f64, f64)| ((p.0 / width).floor() as usize).min(999) == c;
+            let column: Vec<f64> = points.iter().filter(inside).map(|p| p.1).collect();
+            let drawn: Vec<f64> = kept.iter().filter(inside).map(|p| p.1).collect();
+            let (lo, hi) = column
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+            assert!(drawn.contains(&lo) && drawn.contains(&hi), "column {c}");
+        }
+    }
 }

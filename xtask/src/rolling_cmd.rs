@@ -8,13 +8,14 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use tyreroad::rolling;
-use tyreroad::scenario::output::steps_stream::{StepSignals, StepStream, write_road_npz};
+use tyreroad::scenario::output::steps_stream::{StepSignals, StepStream};
+use tyreroad::scenario::output::summits::{SummitRefs, SummitSource, write_road_npz_from};
 use tyreroad::scenario::output::{OutputSet, csv_bytes, fmt};
 use tyreroad::scenario::{
     RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult, Spectra, StreamedRun,
 };
 
-use crate::charts::{Series, line_chart};
+use crate::charts::{CHART_COLUMNS, CHART_POINTS, Series, line_chart, min_max_columns};
 use crate::summary::Fallbacks;
 
 /// Runs a `[rolling]` scenario with a progress bar; with `checkpoint = true`
@@ -61,7 +62,11 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<F
 pub fn report_rolling(run: &RollingRun, out: &Path) -> Result<Fallbacks> {
     let mut set = OutputSet::replacing(out, "rolling")?;
     let signals = stream_records(run, &mut set)?;
-    report_ended(&Ended::of_run(run, &signals), set, out)
+    let summits = SummitRefs {
+        positions: &run.road_positions,
+        heights: &run.road_heights,
+    };
+    report_ended(&Ended::of_run(run, &signals, &summits), set, out)
 }
 
 /// [`report_rolling`] for a run whose records were streamed into `set`
@@ -76,8 +81,7 @@ pub fn report_streamed(run: &StreamedRun, set: OutputSet, out: &Path) -> Result<
 /// streamed.
 struct Ended<'a> {
     road: &'a RoadSummary,
-    road_positions: &'a [[f64; 2]],
-    road_heights: &'a [f64],
+    summits: &'a dyn SummitSource,
     config: &'a rolling::RollingConfig,
     signals: &'a StepSignals,
     resumed: usize,
@@ -86,11 +90,10 @@ struct Ended<'a> {
 }
 
 impl<'a> Ended<'a> {
-    fn of_run(run: &'a RollingRun, signals: &'a StepSignals) -> Self {
+    fn of_run(run: &'a RollingRun, signals: &'a StepSignals, summits: &'a SummitRefs<'a>) -> Self {
         Self {
             road: &run.road,
-            road_positions: &run.road_positions,
-            road_heights: &run.road_heights,
+            summits,
             config: &run.config,
             signals,
             resumed: run.result.resumed,
@@ -102,8 +105,7 @@ impl<'a> Ended<'a> {
     fn of_streamed(run: &'a StreamedRun) -> Self {
         Self {
             road: &run.road,
-            road_positions: &run.road_positions,
-            road_heights: &run.road_heights,
+            summits: run.summits.as_ref(),
             config: &run.config,
             signals: &run.signals,
             resumed: run.resumed,
@@ -118,6 +120,7 @@ impl<'a> Ended<'a> {
 fn stream_records(run: &RollingRun, set: &mut OutputSet) -> Result<StepSignals> {
     let names: Vec<String> = run.config.sensors.iter().map(|s| s.name.clone()).collect();
     let mut stream = StepStream::new(set, &names)?;
+    stream.reserve(run.result.steps.len());
     for s in &run.result.steps {
         stream.push(s)?;
     }
@@ -227,14 +230,18 @@ struct BandDetailRow {
 /// Writes every file of a whole run into `set` (not committed).
 pub(crate) fn write_outputs(run: &RollingRun, set: &mut OutputSet) -> Result<()> {
     let signals = stream_records(run, set)?;
-    write_end(&Ended::of_run(run, &signals), set)
+    let summits = SummitRefs {
+        positions: &run.road_positions,
+        heights: &run.road_heights,
+    };
+    write_end(&Ended::of_run(run, &signals, &summits), set)
 }
 
 /// The files written once every step is in: `road.npz`, the spectra
 /// tables and the charts (the per-step files are [`StepStream`]'s).
 fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
     let (config, signals, spectra) = (run.config, run.signals, run.spectra);
-    write_road_npz(set, run.road_positions, run.road_heights)?;
+    write_road_npz_from(set, run.summits)?;
 
     // third_octave.csv keeps exactly the two columns noise models read; the
     // exact centres and the sensors' levels go beside it.
@@ -271,27 +278,39 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
     let load_control = spectra.load_control;
     let reference = spectra.reference_force;
     let sensor_levels = &spectra.sensors;
-    let ms = |v: &[f64]| -> Vec<(f64, f64)> {
-        signals
+    // A long run's signals are drawn as the smallest and largest value of
+    // each of CHART_COLUMNS time columns (peaks stay visible, the files
+    // stay small); up to CHART_POINTS steps every point is drawn, as ever.
+    let steps = signals.len();
+    let span = match (signals.time.first(), signals.time.last()) {
+        (Some(&t0), Some(&t1)) => [t0 * 1e3, t1 * 1e3],
+        _ => [0.0, 0.0],
+    };
+    let ms = |v: &mut dyn Iterator<Item = f64>| -> Vec<(f64, f64)> {
+        let points = signals
             .time
             .iter()
             .zip(v)
             // A failed step's NaN is a gap in the chart, not a point.
             .filter(|(_, y)| y.is_finite())
-            .map(|(t, &y)| (t * 1e3, y))
-            .collect()
+            .map(|(t, y)| (t * 1e3, y));
+        if steps <= CHART_POINTS {
+            points.collect()
+        } else {
+            min_max_columns(points, CHART_COLUMNS, span)
+        }
     };
     let (name, unit, main) = if load_control {
         (
             "approach",
             "approach (mm)",
-            signals.approach.iter().map(|d| d * 1e3).collect::<Vec<_>>(),
+            ms(&mut signals.approach.iter().map(|d| d * 1e3)),
         )
     } else {
         (
             "total force",
             "total force (N)",
-            signals.total_force.clone(),
+            ms(&mut signals.total_force.iter().copied()),
         )
     };
     line_chart(
@@ -302,10 +321,9 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
         unit,
         &[Series {
             label: name.into(),
-            points: ms(&main),
+            points: main,
         }],
     )?;
-    let area_mm2: Vec<f64> = signals.contact_area.iter().map(|a| a * 1e6).collect();
     line_chart(
         set,
         "contact_area",
@@ -314,7 +332,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
         "contact area (mm²)",
         &[Series {
             label: "Σ π a²".into(),
-            points: ms(&area_mm2),
+            points: ms(&mut signals.contact_area.iter().map(|a| a * 1e6)),
         }],
     )?;
     if !config.sensors.is_empty() {
@@ -324,7 +342,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
             .enumerate()
             .map(|(k, s)| Series {
                 label: s.name.clone(),
-                points: ms(&signals.sensors[k]),
+                points: ms(&mut signals.sensors[k].iter().copied()),
             })
             .collect();
         line_chart(

@@ -168,7 +168,8 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
             .collect();
         writing = Some(
             OutputSet::replacing(&args.out, "rolling").and_then(|mut set| {
-                let stream = StepStream::new(&mut set, &names)?;
+                let mut stream = StepStream::new(&mut set, &names)?;
+                stream.reserve(scenario.rolling_steps()?);
                 Ok((set, stream))
             }),
         );

@@ -12,9 +12,10 @@
 //! Because every step is solved to the rolling tolerance (`1e-12`), a
 //! step's result does not depend on where its solve started: the gathered
 //! signals equal a single process's to `1e-9` relative whatever `n` and
-//! `w`, and the spectra are identical. Ranks send their records to rank 0
-//! once, at the end ([`wire`]); rank 0 writes them as they arrive, in path
-//! order, through the writers a single process uses
+//! `w`, and the spectra are identical. A rank `r > 0` spills its records
+//! to a file as it rolls them and sends them to rank 0 at the end, in
+//! chunks of at most [`spill::CHUNK`] bytes ([`spill`], [`wire`]); rank 0
+//! writes them as they arrive, in path order, through the writers a single process uses
 //! (`tyreroad::scenario::output::steps_stream`), keeping only the few
 //! signals per step the spectra need (`mpi::roll_into`), so the same
 //! records give the same files and rank 0 does not hold the path's records.
@@ -36,6 +37,7 @@
 //! - without the `mpi` feature nothing here needs a system library.
 
 pub mod plan;
+pub mod spill;
 pub mod sweep;
 pub mod wire;
 

@@ -2,9 +2,10 @@
 //! ranks, and a sweep handed out run by run.
 //!
 //! Messages (docs/distributed.md): a rolling run sends nothing while it
-//! steps; at the end every rank `r > 0` sends rank 0 one buffer, its
-//! records ([`crate::wire::encode_records`]) or its error, which rank 0
-//! hands on a record at a time to its writers ([`roll_into`]). A sweep's
+//! steps; at the end every rank `r > 0` sends rank 0 its part's head
+//! ([`crate::spill::encode_head`]) and its records in chunks read back
+//! from its spill file, or its error, which rank 0 hands on a record at a
+//! time to its writers ([`roll_into`]). A sweep's
 //! workers send rank 0 a request (empty) or a finished row, and get back
 //! the next run's number or [`STOP`].
 
@@ -17,9 +18,10 @@ pub use mpi::topology::SimpleCommunicator;
 
 use crate::DistributedError;
 use crate::plan::rank_range;
+use crate::spill::{CHUNK, RecordChunks, RecordSpill, decode_head, encode_head};
 use crate::sweep::{SweepRow, SweepRun};
 use crate::sweep::{decode_row, encode_row};
-use crate::wire::{decode_records_each, encode_records_owned};
+use crate::wire::PartHead;
 
 /// The job number that tells a sweep worker to stop.
 pub const STOP: u64 = u64::MAX;
@@ -62,9 +64,10 @@ pub type RecordSink<'s> = dyn FnMut(StepRecord) -> Result<(), ScenarioError> + '
 /// step range, so the ranks never share one and a killed job resumes, even
 /// on another number of ranks). Rank 0 hands on its own records piece by
 /// piece as it rolls them (1 m of path at a time on a synthetic road), then
-/// each other rank's message, decoded a record at a time, in rank order:
-/// it never holds more than a piece of its own part or one rank's message
-/// (docs/distributed.md, "Gather and write"). Returns [`Gathered`] on rank
+/// each other rank's chunks, in rank order, decoded a record at a time as
+/// they come: it never holds more than a piece of its own part or one
+/// chunk, and a rank `r > 0` never more than a piece and a chunk, its part
+/// waiting in its spill file (docs/distributed.md, "Gather and write"). Returns [`Gathered`] on rank
 /// 0, `None` elsewhere; the other ranks' `sink` is never called.
 ///
 /// Every rank must call it (it is collective). After any error rank 0
@@ -94,26 +97,7 @@ pub fn roll_into(
         .rolling_steps()
         .map(|total| rank_range(total, rank, ranks));
     if rank > 0 {
-        let mine = part.and_then(|range| {
-            if range.is_empty() {
-                // More ranks than steps: this one has nothing to roll.
-                return Ok(None);
-            }
-            scenario.roll_part(options, range, warmup).map(Some)
-        });
-        // The records are freed as they are encoded (a rank holds its part
-        // once, not twice); the status byte leads.
-        let (bytes, outcome) = match mine {
-            Ok(Some(part)) => (encode_records_owned(&[1], part), Ok(None)),
-            Ok(None) => (vec![1], Ok(None)),
-            Err(e) => {
-                let mut bytes = vec![0];
-                bytes.extend(e.to_string().as_bytes());
-                (bytes, Err(DistributedError::from(e)))
-            }
-        };
-        world.process_at_rank(0).send(&bytes[..]);
-        return outcome;
+        return send_part(world, scenario, options, part, (rank, warmup));
     }
     let mut gathered = Gathered {
         steps: 0,
@@ -143,50 +127,149 @@ pub fn roll_into(
         });
     }
     for r in 1..ranks {
-        let bytes = world
-            .process_at_rank(i32::try_from(r).unwrap_or(i32::MAX))
-            .receive_vec::<u8>()
-            .0;
-        if first_error.is_some() {
-            continue;
-        }
-        match bytes.split_first() {
-            Some((1, [])) => {}
-            Some((1, body)) => {
-                let head = decode_records_each(body, &mut |record| {
-                    sink(record).map_err(|e| DistributedError::Rank {
-                        rank: 0,
-                        message: e.to_string(),
-                    })?;
-                    gathered.steps += 1;
-                    Ok(())
-                });
-                match head {
-                    Ok(head) => {
-                        gathered.resumed += head.resumed;
-                        gathered.input_hash = head.input_hash;
-                    }
-                    Err(e) => first_error = Some(e),
-                }
+        receive_part(world, r, first_error.is_some(), &mut |record| {
+            sink(record).map_err(|e| DistributedError::Rank {
+                rank: 0,
+                message: e.to_string(),
+            })?;
+            gathered.steps += 1;
+            Ok(())
+        })
+        .map(|head| {
+            if let Some(head) = head {
+                gathered.resumed += head.resumed;
+                gathered.input_hash = head.input_hash;
             }
-            Some((_, why)) => {
-                first_error = Some(DistributedError::Rank {
-                    rank: r,
-                    message: String::from_utf8_lossy(why).into_owned(),
-                });
-            }
-            None => {
-                first_error = Some(DistributedError::Wire(format!(
-                    "empty message from rank {r}"
-                )));
-            }
-        }
+        })
+        .unwrap_or_else(|e| {
+            first_error.get_or_insert(e);
+        });
     }
     match first_error {
         Some(e) => Err(e),
         None if gathered.steps == 0 => Err(DistributedError::Wire("no rank sent records".into())),
         None => Ok(Some(gathered)),
     }
+}
+
+/// A rank `r > 0`'s side of [`roll_into`]: rolls its part into a spill
+/// file (crate::spill), then sends rank 0 the part's head and its records
+/// in chunks of at most [`CHUNK`] bytes, or its error. It holds a piece of
+/// its part (1 m of path on a synthetic road) and a chunk, never the part.
+fn send_part(
+    world: &SimpleCommunicator,
+    scenario: &Scenario,
+    options: &RunOptions<'_>,
+    part: Result<std::ops::Range<usize>, ScenarioError>,
+    (rank, warmup): (usize, usize),
+) -> Result<Option<Gathered>, DistributedError> {
+    let root = world.process_at_rank(0);
+    let spilled = part.map_err(DistributedError::from).and_then(|range| {
+        if range.is_empty() {
+            // More ranks than steps: this one has nothing to roll.
+            return Ok(None);
+        }
+        // The node's scratch ($TMPDIR), not the output folder: rank 0
+        // swaps that folder in whole at the end (docs/distributed.md).
+        let mut spill = RecordSpill::create(&std::env::temp_dir(), rank)?;
+        let mut spill_error = None;
+        let rolled = scenario.roll_part_into(options, range, warmup, &mut |piece| {
+            spill.push(piece).map_err(|e| {
+                let message = e.to_string();
+                spill_error = Some(e);
+                ScenarioError::Invalid(message)
+            })
+        });
+        match (rolled, spill_error) {
+            (_, Some(e)) => Err(e),
+            (Err(e), None) => Err(e.into()),
+            (Ok(()), None) => Ok(Some(spill)),
+        }
+    });
+    match spilled {
+        Ok(None) => {
+            root.send(&[1u8][..]);
+            Ok(None)
+        }
+        Ok(Some(spill)) => {
+            let (head, body) = spill.head();
+            root.send(&encode_head(&[1], &head, body)[..]);
+            // Once the head is sent rank 0 waits for `body` bytes: a spill
+            // file that cannot be read back still sends them (zeros), so
+            // that neither rank waits forever; rank 0 then fails on them.
+            let mut sent = 0;
+            let outcome = spill.send_chunks(CHUNK, &mut |chunk| {
+                root.send(chunk);
+                sent += chunk.len();
+                Ok(())
+            });
+            let zeros = vec![0u8; CHUNK.min(body - sent)];
+            while sent < body {
+                let n = zeros.len().min(body - sent);
+                root.send(&zeros[..n]);
+                sent += n;
+            }
+            outcome.map(|()| None)
+        }
+        Err(e) => {
+            let mut bytes = vec![0];
+            bytes.extend(e.to_string().as_bytes());
+            root.send(&bytes[..]);
+            Err(e)
+        }
+    }
+}
+
+/// Rank 0 receives rank `r`'s part ([`send_part`]) and hands its records,
+/// in order, to `each`, unless the run has `failed` already: then the
+/// chunks are received (so rank `r` is not left waiting) and dropped.
+/// Returns the part's head (`None` for an empty part or a failed run).
+fn receive_part(
+    world: &SimpleCommunicator,
+    r: usize,
+    failed: bool,
+    each: &mut dyn FnMut(StepRecord) -> Result<(), DistributedError>,
+) -> Result<Option<PartHead>, DistributedError> {
+    let source = world.process_at_rank(i32::try_from(r).unwrap_or(i32::MAX));
+    let bytes = source.receive_vec::<u8>().0;
+    let head = match bytes.split_first() {
+        Some((1, [])) => return Ok(None),
+        Some((1, head)) => decode_head(head)?,
+        Some((_, why)) => {
+            return Err(DistributedError::Rank {
+                rank: r,
+                message: String::from_utf8_lossy(why).into_owned(),
+            });
+        }
+        None => {
+            return Err(DistributedError::Wire(format!(
+                "empty message from rank {r}"
+            )));
+        }
+    };
+    let (head, body) = head;
+    let mut chunks = RecordChunks::new(&head, body);
+    let mut failed = failed;
+    let mut outcome = Ok(Some(head));
+    while !chunks.done() {
+        let chunk = source.receive_vec::<u8>().0;
+        if chunk.is_empty() {
+            // A rank never sends an empty chunk: a damaged stream.
+            return Err(DistributedError::Wire(format!(
+                "an empty chunk from rank {r}"
+            )));
+        }
+        if failed {
+            // Count the bytes only, so that the loop ends when rank r's do.
+            chunks.skip(chunk.len());
+            continue;
+        }
+        if let Err(e) = chunks.push(&chunk, each) {
+            failed = true;
+            outcome = Err(e);
+        }
+    }
+    outcome
 }
 
 /// [`roll_into`] with rank 0 gathering every record and finishing them into

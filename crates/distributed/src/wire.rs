@@ -144,7 +144,7 @@ fn header(lead: &[u8], result: &RollingResult) -> Writer {
     w
 }
 
-fn encode_record(w: &mut Writer, r: &StepRecord) {
+pub(crate) fn encode_record(w: &mut Writer, r: &StepRecord) {
     for v in [r.index, r.contacts, r.selected, r.iterations, r.overlapping] {
         w.u(v);
     }
@@ -231,7 +231,7 @@ pub fn decode_records_each(
     })
 }
 
-fn decode_record(r: &mut Reader<'_>) -> Result<StepRecord, DistributedError> {
+pub(crate) fn decode_record(r: &mut Reader<'_>) -> Result<StepRecord, DistributedError> {
     let [index, contacts, selected, iterations, overlapping] =
         [r.u()?, r.u()?, r.u()?, r.u()?, r.u()?];
     let status = decode_code(&STATUSES, r.u()?, "status")?;

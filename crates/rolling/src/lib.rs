@@ -142,7 +142,7 @@ pub use spectrum::{
 };
 pub use step::{StepProblem, contact_point, step_problem};
 pub use synth::SyntheticRoad;
-pub use synth_window::SyntheticWindows;
+pub use synth_window::{SummitStream, SyntheticWindows};
 pub use tread::Tread;
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_multipoint::{AsperitySet, Par, SolveError};

@@ -283,6 +283,25 @@ impl StepStream {
         self.signals.is_empty()
     }
 
+    /// Makes room for the signals of `steps` steps at once: a stream
+    /// told the path's length holds its signals once, not up to twice
+    /// while their vectors grow by doubling.
+    pub fn reserve(&mut self, steps: usize) {
+        let more = steps.saturating_sub(self.signals.len());
+        let s = &mut self.signals;
+        for column in [
+            &mut s.time,
+            &mut s.position,
+            &mut s.total_force,
+            &mut s.approach,
+            &mut s.contact_area,
+        ] {
+            column.reserve_exact(more);
+        }
+        s.status.reserve_exact(more);
+        s.sensors.iter_mut().for_each(|c| c.reserve_exact(more));
+    }
+
     /// Appends one step's record; it must be the path's next step.
     ///
     /// # Errors
@@ -406,8 +425,8 @@ impl StepStream {
 }
 
 /// `road.npz` ([`super::road_npz`]'s bytes) written into `set` member by
-/// member from the summits, without the copies and the archive in memory
-/// that building it whole takes (about 100 B a summit).
+/// member from the summits ([`super::summits::write_road_npz_from`] for a
+/// road that lists its summits on demand).
 ///
 /// # Errors
 /// [`ScenarioError::Io`] / [`ScenarioError::Encode`] if the file cannot be
@@ -424,30 +443,20 @@ pub fn write_road_npz(
             heights.len()
         )));
     }
-    let n = positions.len();
-    let mut npz = NpzStream::create(set, "road.npz")?;
-    npz.member("ids", &[n], Element::U64, &mut |w| {
-        (0..n as u64).try_for_each(|id| w.write_all(&id.to_le_bytes()))
-    })?;
-    npz.member("positions", &[n, 2], Element::F64, &mut |w| {
-        positions.iter().try_for_each(|p| write_f64s(w, p))
-    })?;
-    npz.member("heights", &[n], Element::F64, &mut |w| {
-        write_f64s(w, heights)
-    })?;
-    npz.finish()
+    let source = super::summits::SummitRefs { positions, heights };
+    super::summits::write_road_npz_from(set, &source)
 }
 
 /// An `.npz` archive written member by member into a staged file, each
 /// member's bytes handed to the deflater as [`super::NpzBuilder`] hands
 /// them ([`Pieces`]).
-struct NpzStream {
+pub(super) struct NpzStream {
     path: PathBuf,
     zip: zip::ZipWriter<BufWriter<File>>,
 }
 
 impl NpzStream {
-    fn create(set: &mut OutputSet, name: &str) -> Result<Self, ScenarioError> {
+    pub(super) fn create(set: &mut OutputSet, name: &str) -> Result<Self, ScenarioError> {
         let path = set.staging_path(name);
         let file = File::create(&path).map_err(io("creating", &path))?;
         Ok(Self {
@@ -457,7 +466,7 @@ impl NpzStream {
     }
 
     /// Member `name.npy` of `shape`, its data written by `body`.
-    fn member(
+    pub(super) fn member(
         &mut self,
         name: &str,
         shape: &[usize],
@@ -475,7 +484,7 @@ impl NpzStream {
         pieces.finish().map_err(io("writing", &self.path))
     }
 
-    fn finish(self) -> Result<(), ScenarioError> {
+    pub(super) fn finish(self) -> Result<(), ScenarioError> {
         let file = self.zip.finish().map_err(|e| npz_error(&e))?;
         file.into_inner().map_err(|e| npz_error(&e))?;
         Ok(())
@@ -526,7 +535,7 @@ impl<W: Write> Write for Pieces<W> {
 
 /// The element types of `steps.npz`'s members.
 #[derive(Clone, Copy)]
-enum Element {
+pub(super) enum Element {
     F64,
     I64,
     U64,
