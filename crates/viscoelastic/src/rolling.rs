@@ -86,6 +86,22 @@ pub enum ViscoStart {
     Relaxed,
 }
 
+/// What becomes of an asperity's memory once the footprint window (the
+/// tread's box plus margin, the selection of every step) has passed it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrailingMemory {
+    /// The rubber lifts off the road at the trailing edge of the window and
+    /// takes its memory with it: the asperity is forgotten as it leaves the
+    /// window, as the viscoelastic rolling BEM forgets the cells that leave
+    /// its window (docs/viscoelastic.md, "Where the memory lives").
+    #[default]
+    LiftsOff,
+    /// Hunter's idealisation: the half-space stays attached to the road
+    /// behind the footprint, so the recovering depression of every asperity
+    /// passed acts on the footprint through `1/r` until it fades.
+    Kept,
+}
+
 /// How to run a viscoelastic rolling run (the run itself is sequential
 /// along the path: each step needs the previous one's memory).
 #[derive(Clone, Copy)]
@@ -96,6 +112,9 @@ pub struct ViscoRollOptions<'a> {
     pub fade: f64,
     /// The state before the first step (default [`ViscoStart::Fresh`]).
     pub start: ViscoStart,
+    /// The memory of the asperities the window has passed (default
+    /// [`TrailingMemory::LiftsOff`]).
+    pub trailing: TrailingMemory,
     /// Called after each step; `ControlFlow::Break(())` stops the run with
     /// [`RollingError::Interrupted`].
     pub progress: Option<ProgressFn<'a>>,
@@ -106,6 +125,7 @@ impl Default for ViscoRollOptions<'_> {
         Self {
             fade: DEFAULT_FADE,
             start: ViscoStart::Fresh,
+            trailing: TrailingMemory::LiftsOff,
             progress: None,
         }
     }
@@ -213,6 +233,7 @@ struct Runner<'r, L> {
     config: &'r RollingConfig,
     fade: f64,
     relaxed_start: bool,
+    trailing: TrailingMemory,
     branches: usize,
     /// `w_i` per road id (m², force per unit modulus).
     unit: Vec<f64>,
@@ -248,6 +269,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             config,
             fade: options.fade,
             relaxed_start: options.start == ViscoStart::Relaxed,
+            trailing: options.trailing,
             branches,
             unit: vec![0.0; n],
             branch: vec![0.0; n * branches],
@@ -456,7 +478,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 .map(|b| self.branch[i * self.branches + b].abs())
                 .sum();
             let faded = instantaneous * self.unit[i] + q <= threshold;
-            if faded && in_window[i] == 0.0 {
+            let lifted = self.trailing == TrailingMemory::LiftsOff;
+            if (faded || lifted) && in_window[i] == 0.0 {
                 self.forget(i);
             } else {
                 kept.push(i);
