@@ -25,13 +25,23 @@
 //! ```
 //!
 //! an elastic multipoint problem of modulus `E_eff` whose gaps are raised
-//! by the displacement of the memory (`h ≤ 0`) of every asperity that still
-//! has some, in the footprint or behind it, and whose laws are offset by
-//! `h_i` ([`crate::rolling_law`]); complementarity holds on the real force
-//! `p_i ≥ 0`. An asperity out of contact keeps `w_i = −h_i/E_eff`: its
-//! memory decays and is forgotten once it is below `fade` of the largest
-//! force seen. One step costs one warm-started elastic solve plus
-//! `O(N_window · N_memory + N_memory · branches)`.
+//! by the displacement of the memory (`h ≤ 0`) of every asperity of the
+//! window that still has some, and whose laws are offset by `h_i`
+//! ([`crate::rolling_law`]); complementarity holds on the real force
+//! `p_i ≥ 0`. An asperity of the window out of contact keeps
+//! `w_i = −h_i/E_eff`: its memory decays. One step costs one warm-started
+//! elastic solve plus `O(N_window · N_memory + N_memory · branches)`.
+//!
+//! Which rubber remembers ([`TrailingMemory`]): the window (the tread's box
+//! plus margin, the selection of every step) is where the tread touches the
+//! road. By default an asperity is forgotten as the window leaves it: the
+//! rubber lifts off with its memory, as the viscoelastic rolling BEM forgets
+//! the cells that leave its window, so both models hold the same memory.
+//! [`TrailingMemory::Kept`] is Hunter's half-space attached to the road:
+//! every asperity passed keeps acting on the footprint through `1/r` until
+//! its memory is below `fade` of the largest force seen; against the BEM it
+//! carries a depression the BEM does not, which grows along the path
+//! (docs/viscoelastic.md, "Where the growing error came from").
 //!
 //! Invariants: `h_i ≤ 0` and `w_i ≥ 0` (the recursion is exact for `w`
 //! linear over a step, and `q_k ≤ E_k w` whenever `w ≥ 0`, so rounding is all

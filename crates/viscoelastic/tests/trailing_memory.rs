@@ -36,8 +36,7 @@ const SECOND: f64 = 0.08;
 fn road(xs: &[f64], reference: Material) -> Road<HertzLaw> {
     let law = HertzLaw::new(5e-3, reference).expect("valid");
     let positions = xs.iter().map(|&x| [x, 0.0]).collect();
-    let set = AsperitySet::new(positions, vec![0.0; xs.len()], vec![law; xs.len()])
-        .expect("valid");
+    let set = AsperitySet::new(positions, vec![0.0; xs.len()], vec![law; xs.len()]).expect("valid");
     Road::new(set)
 }
 
@@ -67,8 +66,14 @@ fn roll(xs: &[f64], trailing: TrailingMemory) -> ViscoRolling {
         trailing,
         ..ViscoRollOptions::default()
     };
-    roll_viscoelastic(&road(xs, reference), reference, &tread(), &config(), &options)
-        .expect("runs")
+    roll_viscoelastic(
+        &road(xs, reference),
+        reference,
+        &tread(),
+        &config(),
+        &options,
+    )
+    .expect("runs")
 }
 
 /// Worst difference, relative to its peak, of the second sphere's force in
@@ -119,8 +124,13 @@ fn an_asperity_the_window_has_passed_no_longer_loads_the_footprint() {
     }
     // Hunter's road-attached half-space keeps the first sphere's recovering
     // depression under the second (30 mm away, 1 ms later): the second
-    // sphere then carries less. The check above can fail.
+    // sphere then carries less (measured: 1.5 % of its peak). The check
+    // above can fail.
     let kept = roll(&[FIRST, SECOND], TrailingMemory::Kept);
     let (hunter, _) = second_sphere_difference(&kept, &alone);
-    assert!(hunter > 1e-3, "kept memory changes the second sphere by {hunter}");
+    eprintln!("lifts off: {worst:.1e}; kept: {hunter:.2e} of the peak");
+    assert!(
+        hunter > 5e-3,
+        "kept memory changes the second sphere by {hunter}"
+    );
 }
