@@ -534,6 +534,17 @@ reference = "20 degC"
         let runs = unshifted.roll_viscoelastic(&options, &case).unwrap();
         let err = runs[0].as_ref().unwrap_err().to_string();
         assert!(err.contains("shift"), "{err}");
+        let sticky = small(&VISCO.replace(
+            "[material.viscoelastic]\n",
+            "[material.viscoelastic]\ntrailing_memory = \"glued\"\n",
+        ));
+        let err = sticky
+            .roll_viscoelastic(&options, &[ViscoCase::default()])
+            .unwrap()[0]
+            .as_ref()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("trailing_memory") && err.contains("glued"), "{err}");
     }
 
     #[test]
