@@ -544,7 +544,10 @@ reference = "20 degC"
             .as_ref()
             .unwrap_err()
             .to_string();
-        assert!(err.contains("trailing_memory") && err.contains("glued"), "{err}");
+        assert!(
+            err.contains("trailing_memory") && err.contains("glued"),
+            "{err}"
+        );
     }
 
     #[test]

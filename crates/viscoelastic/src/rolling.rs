@@ -55,8 +55,9 @@
 //! first step. [`ViscoStart::Relaxed`] is a tread that has stood still at
 //! the first position long enough to relax: the first step is the elastic
 //! solve with `E∞`, every branch relaxed (`q = 0`, `w = p/E∞`); the
-//! footprint's first asperities then stay softer until they leave it, and
-//! under fast rolling their depression stays frozen behind the tread. Either
+//! footprint's first asperities then stay softer until they leave it (and
+//! with [`TrailingMemory::Kept`], under fast rolling, their depression
+//! stays frozen behind the tread). Either
 //! way the start is a transient about one footprint length long
 //! ([`ViscoRolling::transient_steps`]).
 //!
@@ -81,8 +82,9 @@ use crate::history::step_coefficients;
 use crate::rolling_law::MemoryLaw;
 use crate::{Prony, ViscoError};
 
-/// Default memory threshold: an asperity behind the footprint is forgotten
-/// once its memory is below this fraction of the largest force seen.
+/// Default memory threshold: with [`TrailingMemory::Kept`], an asperity
+/// behind the footprint is forgotten once its memory is below this fraction
+/// of the largest force seen.
 pub const DEFAULT_FADE: f64 = 1e-9;
 
 /// The tread's state before the first step.
@@ -117,8 +119,8 @@ pub enum TrailingMemory {
 #[derive(Clone, Copy)]
 pub struct ViscoRollOptions<'a> {
     /// Memory threshold, relative to the largest asperity force seen, below
-    /// which an asperity out of the footprint is forgotten (`[0, 1)`;
-    /// default [`DEFAULT_FADE`]).
+    /// which an asperity out of the footprint is forgotten under
+    /// [`TrailingMemory::Kept`] (`[0, 1)`; default [`DEFAULT_FADE`]).
     pub fade: f64,
     /// The state before the first step (default [`ViscoStart::Fresh`]).
     pub start: ViscoStart,
@@ -151,8 +153,8 @@ pub struct ViscoRolling {
     /// Per step: asperities in contact whose elastic-equivalent force fell
     /// (a shrinking patch, where Lee–Radok is the documented approximation).
     pub receding: Vec<usize>,
-    /// Per step: asperities carrying memory after the step (in the footprint
-    /// or behind it).
+    /// Per step: asperities carrying memory after the step (in the window;
+    /// behind it too under [`TrailingMemory::Kept`]).
     pub memory: Vec<usize>,
     /// Steps from the start until the footprint has left its first position
     /// (its length plus twice the margin): those steps still hold asperities
@@ -452,7 +454,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
 
     /// Advances every memory over the step: asperities of the footprint with
     /// their solved forces, the others at `p = 0`. Returns the shrinking
-    /// patches; forgets faded memories behind the footprint.
+    /// patches; forgets the asperities the window has left
+    /// ([`TrailingMemory::LiftsOff`]) or, when kept, whose memory has faded.
     fn remember(
         &mut self,
         ids: &[usize],
