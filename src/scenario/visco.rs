@@ -9,16 +9,18 @@ use std::path::Path;
 
 use serde::Deserialize;
 use tyreroad_contact_law::{ContactLaw, Material};
+use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
-    Branch, MasterCurve, Prony, TemperatureShift, ViscoError, ViscoRollOptions, ViscoStart,
-    fit_prony, roll_viscoelastic,
+    Branch, MasterCurve, Prony, TemperatureShift, TrailingMemory, ViscoError, ViscoRollOptions,
+    ViscoStart, fit_prony, roll_viscoelastic,
 };
 
 use super::rolling::{RoadSummary, RollingRun, spectra};
-use super::texture::texture_road_set;
+use super::texture::{calibrated_texture_road_set, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
+use crate::fidelity::Fidelity;
 
 /// The time dimension of relaxation times.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,6 +121,11 @@ pub struct ViscoSpec {
     /// `"fresh"` (default: the tread meets the road at the first step) or
     /// `"relaxed"` (it stood there long).
     pub start: Option<String>,
+    /// In rolling, the memory of the asperities the footprint window has
+    /// passed: `"lifts_off"` (default: the rubber leaves the road with its
+    /// memory, as in the viscoelastic rolling BEM) or `"kept"` (Hunter's
+    /// half-space attached to the road behind the footprint).
+    pub trailing_memory: Option<String>,
 }
 
 /// `[[material.viscoelastic.branch]]`.
@@ -242,6 +249,18 @@ impl ViscoSpec {
             }),
         }
     }
+
+    fn trailing(&self) -> Result<TrailingMemory, ScenarioError> {
+        match self.trailing_memory.as_deref() {
+            None | Some("lifts_off") => Ok(TrailingMemory::LiftsOff),
+            Some("kept") => Ok(TrailingMemory::Kept),
+            Some(other) => Err(ScenarioError::Value {
+                key: "[material.viscoelastic] trailing_memory".into(),
+                value: format!("{other:?}"),
+                expected: "\"lifts_off\" or \"kept\"".into(),
+            }),
+        }
+    }
 }
 
 /// One viscoelastic rolling run of a sweep: the `[rolling]` section with
@@ -296,6 +315,34 @@ impl Scenario {
             cases,
         };
         if let Some(texture) = &self.texture {
+            if self.model.fidelity()? == Fidelity::Calibrated {
+                // Each cap's hereditary law takes the shape of its calibrated
+                // elastic law (linear in the modulus, so the law per unit
+                // modulus is F_cal(δ)/E_ref). The tables are built with E∞:
+                // the softest tread sinks deepest, so the approach bound that
+                // sizes them covers every speed and temperature.
+                let reference = series
+                    .elastic(series.long_term())
+                    .map_err(visco_error("long_term"))?;
+                let config = self.rolling_config()?;
+                let par = options
+                    .par
+                    .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+                let (set, summary, radii) = calibrated_texture_road_set(
+                    texture,
+                    &options.base_dir,
+                    reference,
+                    &config,
+                    par,
+                    None,
+                )?;
+                let road = rolling::Road::new(set).with_summit_radii(radii)?;
+                let sweep = Sweep {
+                    material: reference,
+                    ..sweep
+                };
+                return Ok(sweep.on(&road, RoadSummary::Texture(summary)));
+            }
             let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling::Road::new(set).with_summit_radii(radii)?;
@@ -354,6 +401,7 @@ impl Sweep<'_> {
         let tread = self.visco.at(self.series, case.temperature)?;
         let options = ViscoRollOptions {
             start: self.visco.start()?,
+            trailing: self.visco.trailing()?,
             progress: self.options.progress,
             ..ViscoRollOptions::default()
         };
@@ -486,6 +534,20 @@ reference = "20 degC"
         let runs = unshifted.roll_viscoelastic(&options, &case).unwrap();
         let err = runs[0].as_ref().unwrap_err().to_string();
         assert!(err.contains("shift"), "{err}");
+        let sticky = small(&VISCO.replace(
+            "[material.viscoelastic]\n",
+            "[material.viscoelastic]\ntrailing_memory = \"glued\"\n",
+        ));
+        let err = sticky
+            .roll_viscoelastic(&options, &[ViscoCase::default()])
+            .unwrap()[0]
+            .as_ref()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("trailing_memory") && err.contains("glued"),
+            "{err}"
+        );
     }
 
     #[test]

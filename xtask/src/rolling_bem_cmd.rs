@@ -30,6 +30,14 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         return crate::rolling_bem_refine::run(args, factor);
     }
     let mut scenario = Scenario::from_path(&args.scenario)?;
+    // Before the viscoelastic branch: its multipoint run takes the rung too.
+    if let Some(name) = &args.fidelity {
+        let fidelity: Fidelity = name.parse()?;
+        if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
+            anyhow::bail!("--fidelity {name}: rolling takes \"wilke\" or \"calibrated\"");
+        }
+        scenario.model.fidelity = Some(name.clone());
+    }
     if args.elastic {
         scenario.material.viscoelastic = None;
     } else if scenario.material.viscoelastic.is_some() {
@@ -37,13 +45,6 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     }
     if let (Some(speed), Some(spec)) = (args.speed, scenario.rolling.as_mut()) {
         spec.speed = tyreroad::scenario::units::Speed::si(speed);
-    }
-    if let Some(name) = &args.fidelity {
-        let fidelity: Fidelity = name.parse()?;
-        if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
-            anyhow::bail!("--fidelity {name}: rolling takes \"wilke\" or \"calibrated\"");
-        }
-        scenario.model.fidelity = Some(name.clone());
     }
     println!(
         "model fidelity: {}{}",

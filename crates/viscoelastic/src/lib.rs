@@ -71,5 +71,7 @@ pub use error::ViscoError;
 pub use fit::{MasterCurve, fit_prony, fit_prony_with_times};
 pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
 pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
-pub use rolling::{DEFAULT_FADE, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic};
+pub use rolling::{
+    DEFAULT_FADE, TrailingMemory, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
+};
 pub use sphere::{dawson, lee_radok_ramp_force};

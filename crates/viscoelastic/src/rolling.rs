@@ -25,13 +25,23 @@
 //! ```
 //!
 //! an elastic multipoint problem of modulus `E_eff` whose gaps are raised
-//! by the displacement of the memory (`h ≤ 0`) of every asperity that still
-//! has some, in the footprint or behind it, and whose laws are offset by
-//! `h_i` ([`crate::rolling_law`]); complementarity holds on the real force
-//! `p_i ≥ 0`. An asperity out of contact keeps `w_i = −h_i/E_eff`: its
-//! memory decays and is forgotten once it is below `fade` of the largest
-//! force seen. One step costs one warm-started elastic solve plus
-//! `O(N_window · N_memory + N_memory · branches)`.
+//! by the displacement of the memory (`h ≤ 0`) of every asperity of the
+//! window that still has some, and whose laws are offset by `h_i`
+//! ([`crate::rolling_law`]); complementarity holds on the real force
+//! `p_i ≥ 0`. An asperity of the window out of contact keeps
+//! `w_i = −h_i/E_eff`: its memory decays. One step costs one warm-started
+//! elastic solve plus `O(N_window · N_memory + N_memory · branches)`.
+//!
+//! Which rubber remembers ([`TrailingMemory`]): the window (the tread's box
+//! plus margin, the selection of every step) is where the tread touches the
+//! road. By default an asperity is forgotten as the window leaves it: the
+//! rubber lifts off with its memory, as the viscoelastic rolling BEM forgets
+//! the cells that leave its window, so both models hold the same memory.
+//! [`TrailingMemory::Kept`] is Hunter's half-space attached to the road:
+//! every asperity passed keeps acting on the footprint through `1/r` until
+//! its memory is below `fade` of the largest force seen; against the BEM it
+//! carries a depression the BEM does not, which grows along the path
+//! (docs/viscoelastic.md, "Where the growing error came from").
 //!
 //! Invariants: `h_i ≤ 0` and `w_i ≥ 0` (the recursion is exact for `w`
 //! linear over a step, and `q_k ≤ E_k w` whenever `w ≥ 0`, so rounding is all
@@ -45,8 +55,9 @@
 //! first step. [`ViscoStart::Relaxed`] is a tread that has stood still at
 //! the first position long enough to relax: the first step is the elastic
 //! solve with `E∞`, every branch relaxed (`q = 0`, `w = p/E∞`); the
-//! footprint's first asperities then stay softer until they leave it, and
-//! under fast rolling their depression stays frozen behind the tread. Either
+//! footprint's first asperities then stay softer until they leave it (and
+//! with [`TrailingMemory::Kept`], under fast rolling, their depression
+//! stays frozen behind the tread). Either
 //! way the start is a transient about one footprint length long
 //! ([`ViscoRolling::transient_steps`]).
 //!
@@ -71,8 +82,9 @@ use crate::history::step_coefficients;
 use crate::rolling_law::MemoryLaw;
 use crate::{Prony, ViscoError};
 
-/// Default memory threshold: an asperity behind the footprint is forgotten
-/// once its memory is below this fraction of the largest force seen.
+/// Default memory threshold: with [`TrailingMemory::Kept`], an asperity
+/// behind the footprint is forgotten once its memory is below this fraction
+/// of the largest force seen.
 pub const DEFAULT_FADE: f64 = 1e-9;
 
 /// The tread's state before the first step.
@@ -86,16 +98,35 @@ pub enum ViscoStart {
     Relaxed,
 }
 
+/// What becomes of an asperity's memory once the footprint window (the
+/// tread's box plus margin, the selection of every step) has passed it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrailingMemory {
+    /// The rubber lifts off the road at the trailing edge of the window and
+    /// takes its memory with it: the asperity is forgotten as it leaves the
+    /// window, as the viscoelastic rolling BEM forgets the cells that leave
+    /// its window (docs/viscoelastic.md, "Where the memory lives").
+    #[default]
+    LiftsOff,
+    /// Hunter's idealisation: the half-space stays attached to the road
+    /// behind the footprint, so the recovering depression of every asperity
+    /// passed acts on the footprint through `1/r` until it fades.
+    Kept,
+}
+
 /// How to run a viscoelastic rolling run (the run itself is sequential
 /// along the path: each step needs the previous one's memory).
 #[derive(Clone, Copy)]
 pub struct ViscoRollOptions<'a> {
     /// Memory threshold, relative to the largest asperity force seen, below
-    /// which an asperity out of the footprint is forgotten (`[0, 1)`;
-    /// default [`DEFAULT_FADE`]).
+    /// which an asperity out of the footprint is forgotten under
+    /// [`TrailingMemory::Kept`] (`[0, 1)`; default [`DEFAULT_FADE`]).
     pub fade: f64,
     /// The state before the first step (default [`ViscoStart::Fresh`]).
     pub start: ViscoStart,
+    /// The memory of the asperities the window has passed (default
+    /// [`TrailingMemory::LiftsOff`]).
+    pub trailing: TrailingMemory,
     /// Called after each step; `ControlFlow::Break(())` stops the run with
     /// [`RollingError::Interrupted`].
     pub progress: Option<ProgressFn<'a>>,
@@ -106,6 +137,7 @@ impl Default for ViscoRollOptions<'_> {
         Self {
             fade: DEFAULT_FADE,
             start: ViscoStart::Fresh,
+            trailing: TrailingMemory::LiftsOff,
             progress: None,
         }
     }
@@ -121,8 +153,8 @@ pub struct ViscoRolling {
     /// Per step: asperities in contact whose elastic-equivalent force fell
     /// (a shrinking patch, where Lee–Radok is the documented approximation).
     pub receding: Vec<usize>,
-    /// Per step: asperities carrying memory after the step (in the footprint
-    /// or behind it).
+    /// Per step: asperities carrying memory after the step (in the window;
+    /// behind it too under [`TrailingMemory::Kept`]).
     pub memory: Vec<usize>,
     /// Steps from the start until the footprint has left its first position
     /// (its length plus twice the margin): those steps still hold asperities
@@ -213,6 +245,7 @@ struct Runner<'r, L> {
     config: &'r RollingConfig,
     fade: f64,
     relaxed_start: bool,
+    trailing: TrailingMemory,
     branches: usize,
     /// `w_i` per road id (m², force per unit modulus).
     unit: Vec<f64>,
@@ -248,6 +281,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             config,
             fade: options.fade,
             relaxed_start: options.start == ViscoStart::Relaxed,
+            trailing: options.trailing,
             branches,
             unit: vec![0.0; n],
             branch: vec![0.0; n * branches],
@@ -420,7 +454,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
 
     /// Advances every memory over the step: asperities of the footprint with
     /// their solved forces, the others at `p = 0`. Returns the shrinking
-    /// patches; forgets faded memories behind the footprint.
+    /// patches; forgets the asperities the window has left
+    /// ([`TrailingMemory::LiftsOff`]) or, when kept, whose memory has faded.
     fn remember(
         &mut self,
         ids: &[usize],
@@ -456,7 +491,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 .map(|b| self.branch[i * self.branches + b].abs())
                 .sum();
             let faded = instantaneous * self.unit[i] + q <= threshold;
-            if faded && in_window[i] == 0.0 {
+            let lifted = self.trailing == TrailingMemory::LiftsOff;
+            if (faded || lifted) && in_window[i] == 0.0 {
                 self.forget(i);
             } else {
                 kept.push(i);
