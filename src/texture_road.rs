@@ -268,6 +268,33 @@ impl TextureRoad {
     }
 }
 
+/// Columns per id block of a rolling texture road
+/// ([`TextureRoad::rolling_order`]).
+pub const ID_BLOCK_COLUMNS: usize = 64;
+
+impl TextureRoad {
+    /// The order of a rolling road's asperities (ids): block-major, by the
+    /// block of [`ID_BLOCK_COLUMNS`] columns holding the summit's grid
+    /// point, then as the segmentation (higher grid summit first, ties by
+    /// the point's index). An asperity's id is then the count of asperities
+    /// in earlier blocks plus its rank within its block, which a window of
+    /// whole blocks can compute from per-block counts alone
+    /// ([`window::NpyTextureRoad`]). Returns the kept asperities' indices
+    /// (into [`TextureRoad::set`]) in that order.
+    pub fn rolling_order(&self) -> Vec<usize> {
+        let block = |k: usize| {
+            self.segmentation.asperities()[self.asperity_index[k]]
+                .summit_cell
+                .0
+                / ID_BLOCK_COLUMNS
+        };
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        // Stable: within a block, the segmentation's order.
+        order.sort_by_key(|&k| block(k));
+        order
+    }
+}
+
 impl TextureRoad {
     /// Each kept asperity's equivalent summit radius (m), as in
     /// [`TextureRoad::local_shapes`]: the rolling road measures the tread
