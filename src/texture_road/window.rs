@@ -97,6 +97,16 @@ struct Built {
     radius: f64,
 }
 
+/// An asperity of a tile as the streaming passes keep it: what the digest
+/// reads, its law probed (128 B), never the law itself.
+struct Probed {
+    key: Key,
+    position: [f64; 2],
+    height: f64,
+    radius: f64,
+    probed: [(f64, f64); 5],
+}
+
 /// The rolling order: by block, then higher grid summit, ties by index.
 fn order(a: &Key, b: &Key) -> std::cmp::Ordering {
     a.block
@@ -186,7 +196,7 @@ impl NpyTextureRoad {
             for b in built {
                 counts[b.key.block] += 1;
                 let position = [b.position[0] + 0.0, b.position[1] + y_shift];
-                digest.push(position, b.height, &b.law);
+                digest.push_probed(position, b.height, &b.probed);
                 digest.push_summit_radius(b.radius);
                 top = top.max(b.height);
             }
@@ -386,17 +396,26 @@ impl NpyTextureRoad {
 
     /// Each tile of the map in turn (whole id blocks): `f(window, map,
     /// own columns, the asperities whose summit lies in them, in id
-    /// order)`.
+    /// order)`. Each law is probed and dropped as it is built: a tile's
+    /// laws are never held at once.
     fn for_each_tile(
         &self,
-        mut f: impl FnMut(&WindowSegmentation, &crate::texture::HeightMap, &Range<usize>, Vec<Built>),
+        mut f: impl FnMut(&WindowSegmentation, &crate::texture::HeightMap, &Range<usize>, Vec<Probed>),
     ) -> Result<(), TextureRoadError> {
         let nx = self.layout.nx;
         for t0 in (0..nx).step_by(self.tile) {
             let own = t0..(t0 + self.tile).min(nx);
             let (win, map) = self.certified(&own)?;
             let mut built = Vec::new();
-            self.build(&win, &map, &own, |b| built.push(b))?;
+            self.build(&win, &map, &own, |b| {
+                built.push(Probed {
+                    key: b.key,
+                    position: b.position,
+                    height: b.height,
+                    radius: b.radius,
+                    probed: rolling::RoadDigest::probe(&b.law),
+                });
+            })?;
             built.sort_by(|a, b| order(&a.key, &b.key));
             f(&win, &map, &own, built);
         }
