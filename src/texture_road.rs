@@ -293,6 +293,25 @@ impl TextureRoad {
         order.sort_by_key(|&k| block(k));
         order
     }
+
+    /// The kept asperities and their summit radii
+    /// ([`TextureRoad::summit_radii`]) in the rolling order
+    /// ([`TextureRoad::rolling_order`]), in the map's frame.
+    ///
+    /// # Errors
+    /// [`TextureRoadError::InvalidInput`] never for a road
+    /// [`texture_road`] built (a permutation of its valid set).
+    pub fn rolling_set(&self) -> Result<(AsperitySet<TextureLaw>, Vec<f64>), TextureRoadError> {
+        let order = self.rolling_order();
+        let radii = self.summit_radii();
+        let set = AsperitySet::new(
+            order.iter().map(|&k| self.set.positions()[k]).collect(),
+            order.iter().map(|&k| self.set.heights()[k]).collect(),
+            order.iter().map(|&k| self.set.laws()[k].clone()).collect(),
+        )
+        .map_err(|e| TextureRoadError::InvalidInput(e.to_string()))?;
+        Ok((set, order.iter().map(|&k| radii[k]).collect()))
+    }
 }
 
 impl TextureRoad {

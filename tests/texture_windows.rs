@@ -9,7 +9,6 @@ use std::io::Write;
 use std::path::Path;
 
 use tyreroad::contact_law::{ContactLaw, Material};
-use tyreroad::multipoint::AsperitySet;
 use tyreroad::rolling::{Road, RollingResult};
 use tyreroad::scenario::{Par, RoadSummary, RunOptions, Scenario, ScenarioResult};
 use tyreroad::texture::{Aggregate, HeightMap, aggregate, read_any};
@@ -169,17 +168,10 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
 /// The whole road as a rolling scenario builds it: the texture's
 /// asperities in the rolling order, y centred on the map's mid-width.
 fn rolling_road(built: &TextureRoad, map: &HeightMap) -> Road<TextureLaw> {
-    let order = built.rolling_order();
-    let radii = built.summit_radii();
+    let (set, radii) = built.rolling_set().unwrap();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let set = AsperitySet::new(
-        order.iter().map(|&k| built.set.positions()[k]).collect(),
-        order.iter().map(|&k| built.set.heights()[k]).collect(),
-        order.iter().map(|&k| built.set.laws()[k].clone()).collect(),
-    )
-    .unwrap();
     Road::new(set.translated([0.0, -y_mid]).unwrap())
-        .with_summit_radii(order.iter().map(|&k| radii[k]).collect())
+        .with_summit_radii(radii)
         .unwrap()
 }
 

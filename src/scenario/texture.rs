@@ -245,21 +245,14 @@ pub(crate) fn rolling_texture_road_set(
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
-    let order = road.rolling_order();
-    let radii = road.summit_radii();
-    let radii = order.iter().map(|&k| radii[k]).collect();
+    let (set, radii) = road.rolling_set()?;
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let (positions, heights, laws) = road.set.into_parts();
-    let set = AsperitySet::new(
-        order.iter().map(|&k| positions[k]).collect(),
-        order.iter().map(|&k| heights[k]).collect(),
-        order.iter().map(|&k| laws[k].clone()).collect(),
-    )
-    .and_then(|set| set.translated([0.0, -y_mid]))
-    .map_err(|source| ScenarioError::Solve {
-        context: "[texture] road".into(),
-        source,
-    })?;
+    let set = set
+        .translated([0.0, -y_mid])
+        .map_err(|source| ScenarioError::Solve {
+            context: "[texture] road".into(),
+            source,
+        })?;
     Ok((set, summary, radii))
 }
 
