@@ -450,6 +450,24 @@ mod tests {
         assert!(s.forces[0] >= s.forces[3], "{:?}", s.forces);
     }
 
+    /// Balls at columns 60 and 180 of 0.1 mm cells: blocks 0 and 2 of 64
+    /// columns. The rolling order takes block 0's balls (0 and 2, highest
+    /// first) before block 2's (1 and 3), and the rolling set follows it.
+    #[test]
+    fn the_rolling_order_is_by_block_then_the_segmentations() {
+        let (map, _) = balls();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let road = texture_road(&map, material, &TextureRoadOptions::new(0.2e-3, 1e-6)).unwrap();
+        assert_eq!(road.rolling_order(), vec![0, 2, 1, 3]);
+        let (set, radii) = road.rolling_set().unwrap();
+        let whole_radii = road.summit_radii();
+        for (id, k) in [0, 2, 1, 3].into_iter().enumerate() {
+            assert_eq!(set.positions()[id], road.set.positions()[k]);
+            assert_eq!(set.heights()[id], road.set.heights()[k]);
+            assert_eq!(radii[id], whole_radii[k]);
+        }
+    }
+
     #[test]
     fn local_shape_of_a_ball_follows_the_sphere_inside_its_basin_and_drops_outside() {
         let (map, centres) = balls();
