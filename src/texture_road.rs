@@ -268,6 +268,52 @@ impl TextureRoad {
     }
 }
 
+/// Columns per id block of a rolling texture road
+/// ([`TextureRoad::rolling_order`]).
+pub const ID_BLOCK_COLUMNS: usize = 64;
+
+impl TextureRoad {
+    /// The order of a rolling road's asperities (ids): block-major, by the
+    /// block of [`ID_BLOCK_COLUMNS`] columns holding the summit's grid
+    /// point, then as the segmentation (higher grid summit first, ties by
+    /// the point's index). An asperity's id is then the count of asperities
+    /// in earlier blocks plus its rank within its block, which a window of
+    /// whole blocks can compute from per-block counts alone
+    /// ([`window::NpyTextureRoad`]). Returns the kept asperities' indices
+    /// (into [`TextureRoad::set`]) in that order.
+    pub fn rolling_order(&self) -> Vec<usize> {
+        let block = |k: usize| {
+            self.segmentation.asperities()[self.asperity_index[k]]
+                .summit_cell
+                .0
+                / ID_BLOCK_COLUMNS
+        };
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        // Stable: within a block, the segmentation's order.
+        order.sort_by_key(|&k| block(k));
+        order
+    }
+
+    /// The kept asperities and their summit radii
+    /// ([`TextureRoad::summit_radii`]) in the rolling order
+    /// ([`TextureRoad::rolling_order`]), in the map's frame.
+    ///
+    /// # Errors
+    /// [`TextureRoadError::InvalidInput`] never for a road
+    /// [`texture_road`] built (a permutation of its valid set).
+    pub fn rolling_set(&self) -> Result<(AsperitySet<TextureLaw>, Vec<f64>), TextureRoadError> {
+        let order = self.rolling_order();
+        let radii = self.summit_radii();
+        let set = AsperitySet::new(
+            order.iter().map(|&k| self.set.positions()[k]).collect(),
+            order.iter().map(|&k| self.set.heights()[k]).collect(),
+            order.iter().map(|&k| self.set.laws()[k].clone()).collect(),
+        )
+        .map_err(|e| TextureRoadError::InvalidInput(e.to_string()))?;
+        Ok((set, order.iter().map(|&k| radii[k]).collect()))
+    }
+}
+
 impl TextureRoad {
     /// Each kept asperity's equivalent summit radius (m), as in
     /// [`TextureRoad::local_shapes`]: the rolling road measures the tread
@@ -402,6 +448,24 @@ mod tests {
         assert!((s.total_force() - load).abs() < 1e-6 * load);
         assert!(s.forces.iter().all(|&f| f >= 0.0));
         assert!(s.forces[0] >= s.forces[3], "{:?}", s.forces);
+    }
+
+    /// Balls at columns 60 and 180 of 0.1 mm cells: blocks 0 and 2 of 64
+    /// columns. The rolling order takes block 0's balls (0 and 2, highest
+    /// first) before block 2's (1 and 3), and the rolling set follows it.
+    #[test]
+    fn the_rolling_order_is_by_block_then_the_segmentations() {
+        let (map, _) = balls();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let road = texture_road(&map, material, &TextureRoadOptions::new(0.2e-3, 1e-6)).unwrap();
+        assert_eq!(road.rolling_order(), vec![0, 2, 1, 3]);
+        let (set, radii) = road.rolling_set().unwrap();
+        let whole_radii = road.summit_radii();
+        for (id, k) in [0, 2, 1, 3].into_iter().enumerate() {
+            assert_eq!(set.positions()[id], road.set.positions()[k]);
+            assert_eq!(set.heights()[id], road.set.heights()[k]);
+            assert_eq!(radii[id], whole_radii[k]);
+        }
     }
 
     #[test]

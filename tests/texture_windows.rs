@@ -10,10 +10,12 @@ use std::path::Path;
 
 use tyreroad::contact_law::{ContactLaw, Material};
 use tyreroad::rolling::{Road, RollingResult};
-use tyreroad::scenario::{Par, RunOptions, Scenario, ScenarioResult};
+use tyreroad::scenario::{Par, RoadSummary, RunOptions, Scenario, ScenarioResult};
 use tyreroad::texture::{Aggregate, HeightMap, aggregate, read_any};
 use tyreroad::texture_road::window::NpyTextureRoad;
-use tyreroad::texture_road::{TextureRoadOptions, texture_road};
+use tyreroad::texture_road::{
+    ID_BLOCK_COLUMNS, TextureLaw, TextureRoad, TextureRoadOptions, texture_road,
+};
 
 /// 0.4 m × 40 mm of dense asphalt at 0.25 mm (several tiles of columns),
 /// with a few invalid points.
@@ -64,11 +66,16 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
     // The whole build, as a rolling scenario makes it.
     let map = read_any(&path).unwrap();
     let built = texture_road(&map, material(), &opts).unwrap();
-    let radii = built.summit_radii();
-    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let whole = Road::new(built.set.translated([0.0, -y_mid]).unwrap())
-        .with_summit_radii(radii)
-        .unwrap();
+    let whole = rolling_road(&built, &map);
+    // The rolling order is block-major: blocks never decrease along ids.
+    let order = built.rolling_order();
+    let block = |k: usize| {
+        built.segmentation.asperities()[built.asperity_index[k]]
+            .summit_cell
+            .0
+            / ID_BLOCK_COLUMNS
+    };
+    assert!(order.windows(2).all(|w| block(w[0]) <= block(w[1])));
     // Tiles of 512 columns: four tiles, the last one short; the result
     // does not depend on the tiling.
     for tile in [512, 4096] {
@@ -77,6 +84,33 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
         assert_eq!(npy.segmented(), built.segmentation.asperities().len());
         assert_eq!(npy.top().to_bits(), whole.top().to_bits());
         assert_eq!(npy.digest(), whole.digest());
+        // Per-block counts: the blocks' ids tile 0..N, each block's the
+        // whole road's asperities of that block.
+        let starts = npy.block_start();
+        assert_eq!((starts[0], *starts.last().unwrap()), (0, whole.len()));
+        for (b, w) in starts.windows(2).enumerate() {
+            let count = order.iter().filter(|&&k| block(k) == b).count();
+            assert_eq!(w[1] - w[0], count, "block {b}");
+        }
+        // The streamed summits: ids 0..N each once, in order, the whole
+        // road's positions and heights bit for bit.
+        let mut next = 0;
+        npy.summits(|id, p, z| {
+            assert_eq!(id, next);
+            let q = whole.positions()[id];
+            assert_eq!(
+                [p[0].to_bits(), p[1].to_bits(), z.to_bits()],
+                [
+                    q[0].to_bits(),
+                    q[1].to_bits(),
+                    whole.heights()[id].to_bits()
+                ]
+            );
+            next += 1;
+        })
+        .unwrap();
+        assert_eq!(next, whole.len());
+        let mut seen = vec![false; whole.len()];
         for range in [
             [0.0, 0.07],
             [0.1, 0.25],
@@ -91,6 +125,7 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
             assert_eq!(w.digest(), whole.digest());
             for l in 0..w.len() {
                 let g = w.global_id(l);
+                seen[g] = true;
                 let (p, q) = (w.positions()[l], whole.positions()[g]);
                 assert_eq!(
                     [p[0].to_bits(), p[1].to_bits()],
@@ -119,7 +154,25 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
             assert!(inside(&w) > 0);
         }
         assert!(npy.window([0.5, 0.6]).is_err(), "a window off the map");
+        // Windows covering the road give every id (each checked above).
+        for x in (0..40).map(|k| f64::from(k) * 0.01) {
+            let w = npy.window([x, x + 0.01]).unwrap();
+            for l in 0..w.len() {
+                seen[w.global_id(l)] = true;
+            }
+        }
+        assert!(seen.iter().all(|&s| s), "some id is in no window");
     }
+}
+
+/// The whole road as a rolling scenario builds it: the texture's
+/// asperities in the rolling order, y centred on the map's mid-width.
+fn rolling_road(built: &TextureRoad, map: &HeightMap) -> Road<TextureLaw> {
+    let (set, radii) = built.rolling_set().unwrap();
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    Road::new(set.translated([0.0, -y_mid]).unwrap())
+        .with_summit_radii(radii)
+        .unwrap()
 }
 
 fn compare(a: &RollingResult, b: &RollingResult) -> f64 {
@@ -226,5 +279,21 @@ min_area = "1 mm2"
             "{a:?} {b:?}"
         );
         assert_eq!(run.road_positions, single.road_positions);
+        assert_eq!(run.road_heights, single.road_heights);
+        // The finish streamed the summits from the file (no whole build):
+        // the same summary, Sq summed tile by tile to rounding.
+        let (RoadSummary::Texture(a), RoadSummary::Texture(b)) = (&run.road, &single.road) else {
+            panic!("not texture summaries: {:?} {:?}", run.road, single.road);
+        };
+        assert_eq!(
+            (a.size, a.spacing, a.extent, a.asperities, a.segmented),
+            (b.size, b.spacing, b.extent, b.asperities, b.segmented)
+        );
+        assert!(
+            (a.rms - b.rms).abs() <= 1e-12 * b.rms,
+            "{} {}",
+            a.rms,
+            b.rms
+        );
     }
 }

@@ -198,8 +198,12 @@ fn summit_gap_run(
     let road = texture_road(map, material, &texture.road_options())
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let set = road
-        .set
+    // The scenario run's ids (the rolling order): the comparison reads
+    // both runs' contacts against its road positions.
+    let (set, _) = road
+        .rolling_set()
+        .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
+    let set = set
         .translated([0.0, -y_mid])
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
     // The scenario run's chunking: each chunk cold-starts its first step.

@@ -9,8 +9,8 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
-use super::output::summits::{SummitSlices, SummitSource};
-use super::texture::{TextureSummary, calibrated_texture_road_set, texture_road_set};
+use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
+use super::texture::{TextureSummary, calibrated_texture_road_set, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::fidelity::Fidelity;
 use crate::texture_road::window::NpyTextureRoad;
@@ -195,7 +195,29 @@ pub(crate) fn rolling_on_road(
                 )
             });
         }
-        let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
+        // Rank 0 finishing a run rolled elsewhere on a `.npy` texture: the
+        // summary and the summits streamed from the file, a tile at a
+        // time, never the whole road's laws.
+        if matches!(what, What::Road | What::Gathered(_))
+            && let Some(road) = npy_window_road(scenario, options, material)?
+        {
+            let summary = RoadSummary::Texture(npy_summary(&road));
+            return match what {
+                What::Gathered(result) => {
+                    let summits = npy_summits(&road)?;
+                    finish(scenario.rolling_config()?, spec, summary, summits, result)
+                }
+                // Streamed, not held: the file is walked once into a
+                // spill that `road.npz` reads once per member.
+                _ => {
+                    let path = npy_file(texture, options).unwrap_or_default();
+                    let summits = SpilledSummits::from_source(&road)
+                        .map_err(ScenarioError::io("spilling the summits of", path))?;
+                    Ok(Rolled::Road(summary, Box::new(summits)))
+                }
+            };
+        }
+        let (set, summary, radii) = rolling_texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
         let road = rolling::Road::new(set).with_summit_radii(radii)?;
         return roll_road(
@@ -409,6 +431,35 @@ fn npy_window_road(
         material,
         &texture.road_options(),
     )?))
+}
+
+/// What the texture summary says of a `.npy` road opened by windows: the
+/// whole build's counts; Sq summed tile by tile (equal to the whole map's
+/// to rounding).
+fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
+    let ((nx, ny), (dx, dy)) = (road.size(), road.spacing());
+    TextureSummary {
+        size: (nx, ny),
+        spacing: (dx, dy),
+        extent: ((nx - 1) as f64 * dx, (ny - 1) as f64 * dy),
+        rms: road.rms(),
+        asperities: road.len(),
+        segmented: road.segmented(),
+        calibration: None,
+    }
+}
+
+/// The summits of a `.npy` road opened by windows, in id order, gathered
+/// for `--gather`'s finish, which takes them whole (24 B a summit; the
+/// streamed finish walks the road itself, as a [`SummitSource`]).
+fn npy_summits(road: &NpyTextureRoad) -> Result<(Vec<[f64; 2]>, Vec<f64>), ScenarioError> {
+    let mut positions = Vec::with_capacity(road.len());
+    let mut heights = Vec::with_capacity(road.len());
+    road.summits(|_, p, z| {
+        positions.push(p);
+        heights.push(z);
+    })?;
+    Ok((positions, heights))
 }
 
 /// The `[texture] file` when it is a `.npy` map (read by windows), else

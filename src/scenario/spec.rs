@@ -443,7 +443,7 @@ impl Scenario {
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
         let (set, _, radii) =
-            super::texture::texture_road_set(texture, base_dir, self.material()?)?;
+            super::texture::rolling_texture_road_set(texture, base_dir, self.material()?)?;
         Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
     }
 

@@ -233,6 +233,29 @@ pub(crate) fn texture_road_set(
     Ok((set, summary, radii))
 }
 
+/// [`texture_road_set`] with its asperities in the rolling order
+/// ([`crate::texture_road::TextureRoad::rolling_order`]: by block of
+/// columns, so that a `.npy` road read by windows gives the same ids,
+/// docs/distributed.md, "Road windows").
+pub(crate) fn rolling_texture_road_set(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+) -> Result<(AsperitySet<TextureLaw>, TextureSummary, Vec<f64>), ScenarioError> {
+    let map = texture.height_map(base_dir)?;
+    let road = scenario_road(&map, material, texture)?;
+    let summary = TextureSummary::new(&map, &road);
+    let (set, radii) = road.rolling_set()?;
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let set = set
+        .translated([0.0, -y_mid])
+        .map_err(|source| ScenarioError::Solve {
+            context: "[texture] road".into(),
+            source,
+        })?;
+    Ok((set, summary, radii))
+}
+
 /// [`texture_road_set`] with calibrated laws, for `[model] fidelity =
 /// "calibrated"` in rolling: the asperities `config`'s path can select, in
 /// the same frame and order, each with its cap's BEM-calibrated law,

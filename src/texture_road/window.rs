@@ -1,33 +1,43 @@
 //! A `.npy` texture road read and segmented by windows, for the ranks of a
-//! distributed rolling run (docs/distributed.md, "Memory per rank").
+//! distributed rolling run (docs/distributed.md, "Road windows").
+//!
+//! The rolling road's ids are block-major
+//! ([`super::TextureRoad::rolling_order`]): by the block of
+//! [`ID_BLOCK_COLUMNS`] columns holding the summit's grid point, then
+//! higher grid summit first, ties by the point's whole-map index. So an
+//! asperity's id is `start[b] + r`, `start[b]` the count of asperities in
+//! the blocks before its block `b` and `r` its rank within `b`: what a
+//! window of whole blocks computes from the per-block counts alone.
 //!
 //! [`NpyTextureRoad::open`] makes two streaming passes over the file, one
-//! tile of columns at a time: the first finds the map's first point (its
-//! highest, ties by index: the segmentation always keeps its basin); the
-//! second segments each tile with a halo
-//! ([`crate::texture::segment_window()`]), doubling the halo until every
-//! summit candidate of the tile is certified, and builds the law of each
-//! asperity whose summit lies in the tile, exactly as [`super::texture_road`]
-//! does on the whole map. Of each asperity it keeps its order key (grid
-//! summit height, whole-map index: the whole build's ids are this order),
-//! and, until the pass ends, what the road's digest reads (position,
-//! height, radius, the law's probes: 128 B); sorted by key, these give the
-//! whole road's ids, highest summit `z_max` and [`rolling::RoadDigest`].
-//! What stays is 16 B per asperity of the whole road.
+//! tile of columns (whole blocks) at a time: the first finds the map's
+//! first point (its highest, ties by index: the segmentation always keeps
+//! its basin) and the valid heights' mean; the second segments each tile
+//! with a halo ([`crate::texture::segment_window()`]), doubling the halo
+//! until every summit candidate of the tile is certified, and builds the
+//! law of each asperity whose summit lies in the tile, exactly as
+//! [`super::texture_road`] does on the whole map. A tile's asperities,
+//! sorted by id, are folded into the road's digest
+//! ([`rolling::RoadDigest`], radii in their own stream) and highest summit
+//! `z_max` and counted per block, then dropped. What stays is 8 B per block
+//! (about 125 B per metre at 1 mm spacing): no per-asperity state.
 //!
 //! [`NpyTextureRoad::window`] then builds the road window of an x-range:
-//! the columns its summits can lie in, certified the same way, their laws,
-//! and their ids found among the keys by binary search. Every asperity of
-//! a window, its position, height, law and summit radius, and the window's
-//! `z_max` and digest, are the whole build's bit for bit (tested against
-//! [`super::texture_road`]).
+//! the whole blocks its summits can lie in, certified the same way, their
+//! laws, and their ids from the block counts. Every asperity of a window,
+//! its position, height, law and summit radius, and the window's `z_max`
+//! and digest, are the whole build's bit for bit (tested against
+//! [`super::texture_road`] in [`super::TextureRoad::rolling_order`]).
+//! [`NpyTextureRoad::summits`] streams the whole road's summits in id
+//! order, a tile at a time, for a run's outputs.
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::{
-    CapDepth, TextureLaw, TextureRoadError, TextureRoadOptions, basin_depth, equivalent_radius,
+    CapDepth, ID_BLOCK_COLUMNS, TextureLaw, TextureRoadError, TextureRoadOptions, basin_depth,
+    equivalent_radius,
 };
 use crate::contact_law::{LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
@@ -39,7 +49,8 @@ use crate::texture::{
     segment_window,
 };
 
-/// Columns per tile of the streaming passes (1 m at 1 mm spacing).
+/// Columns per tile of the streaming passes (1 m at 1 mm spacing; whole
+/// id blocks).
 pub const TILE_COLUMNS: usize = 1024;
 
 /// First halo (columns each side) of a window; doubled until certified.
@@ -53,36 +64,59 @@ pub struct NpyTextureRoad {
     layout: NpyLayout,
     material: Material,
     opts: TextureRoadOptions,
+    tile: usize,
     whole_first: (usize, usize),
-    /// The whole road's asperities in id order: (grid summit height,
-    /// whole-map index of the summit point).
-    keys: Vec<(f64, usize)>,
+    /// `block_start[b]`: asperities in the blocks before block `b` (the id
+    /// of block `b`'s first); one more entry than blocks, the last the
+    /// road's count.
+    block_start: Vec<usize>,
     top: f64,
     digest: u64,
     /// Asperities the segmentation found (with or without a depth range).
     segmented: usize,
+    /// Sq of the valid heights (m).
+    rms: f64,
 }
 
-/// One asperity as the digest reads it, with its order key.
-struct Digested {
-    key: (f64, usize),
-    position: [f64; 2],
-    height: f64,
-    radius: f64,
-    probed: [(f64, f64); 5],
+/// An asperity's place in the rolling order (module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Key {
+    block: usize,
+    /// Grid summit height (m).
+    grid: f64,
+    /// Whole-map index `j·nx + i` of the summit point.
+    index: usize,
 }
 
 /// An asperity of a window with its law.
 struct Built {
-    key: (f64, usize),
+    key: Key,
     position: [f64; 2],
     height: f64,
     law: TextureLaw,
     radius: f64,
 }
 
-/// The whole build's order: higher grid summit first, ties by index.
-fn order(a: &(f64, usize), b: &(f64, usize)) -> std::cmp::Ordering {
+/// An asperity of a tile as the streaming passes keep it: what the digest
+/// reads, its law probed (128 B), never the law itself.
+struct Probed {
+    key: Key,
+    position: [f64; 2],
+    height: f64,
+    radius: f64,
+    probed: [(f64, f64); 5],
+}
+
+/// The rolling order: by block, then higher grid summit, ties by index.
+fn order(a: &Key, b: &Key) -> std::cmp::Ordering {
+    a.block
+        .cmp(&b.block)
+        .then(b.grid.total_cmp(&a.grid))
+        .then(a.index.cmp(&b.index))
+}
+
+/// The segmentation's order of points: higher first, ties by index.
+fn point_order(a: &(f64, usize), b: &(f64, usize)) -> std::cmp::Ordering {
     b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
 }
 
@@ -106,8 +140,9 @@ impl NpyTextureRoad {
     }
 
     /// [`NpyTextureRoad::open`] with passes over tiles of `tile` columns
-    /// (at least 1; the road does not depend on it, the memory of a pass
-    /// does: `tile + 2·halo` columns).
+    /// (rounded up to whole id blocks of [`ID_BLOCK_COLUMNS`]; the road
+    /// does not depend on it, the memory of a pass does: `tile + 2·halo`
+    /// columns).
     ///
     /// # Errors
     /// As [`NpyTextureRoad::open`].
@@ -118,71 +153,75 @@ impl NpyTextureRoad {
         tile: usize,
     ) -> Result<Self, TextureRoadError> {
         check_options(opts)?;
-        let tile = tile.max(1);
+        let tile = tile.max(1).div_ceil(ID_BLOCK_COLUMNS) * ID_BLOCK_COLUMNS;
         let spacing = sidecar_spacing(path)?;
         let layout = npy_layout(path)?;
+        let blocks = layout.nx.div_ceil(ID_BLOCK_COLUMNS);
         let mut road = Self {
             path: path.to_path_buf(),
             spacing,
             layout,
             material,
             opts: *opts,
+            tile,
             whole_first: (0, 0),
-            keys: Vec::new(),
+            block_start: vec![0; blocks + 1],
             top: f64::NEG_INFINITY,
             digest: 0,
             segmented: 0,
+            rms: f64::NAN,
         };
-        road.whole_first = road.first_point(tile)?;
-        let y_shift = -road.y_mid();
-        let mut all: Vec<Digested> = Vec::new();
+        let mean;
+        (road.whole_first, mean) = road.first_point()?;
+        let mut digest = rolling::RoadDigest::streamed();
+        let mut counts = vec![0usize; blocks];
+        let mut squares = (0.0, 0usize);
         let mut segmented = 0;
-        for t0 in (0..layout.nx).step_by(tile) {
-            let own = t0..(t0 + tile).min(layout.nx);
-            let (win, map) = road.certified(&own)?;
+        let y_shift = -road.y_mid();
+        let mut top = f64::NEG_INFINITY;
+        road.for_each_tile(|win, map, own, built| {
             segmented += (0..win.segmentation.asperities().len())
-                .filter(|&k| win.is_certified(k) && in_columns(&win, k, &own))
+                .filter(|&k| win.is_certified(k) && in_columns(win, k, own))
                 .count();
-            // Each law is probed and dropped as it is built: a tile's laws
-            // are never held at once.
-            road.build(&win, &map, &own, |b| {
-                all.push(Digested {
-                    key: b.key,
-                    position: [b.position[0] + 0.0, b.position[1] + y_shift],
-                    height: b.height,
-                    radius: b.radius,
-                    probed: rolling::RoadDigest::probe(&b.law),
-                });
-            })?;
-        }
-        if all.is_empty() {
+            let skip = own.start - win.first_column();
+            for j in 0..map.ny() {
+                for i in skip..skip + own.len() {
+                    if let Some(z) = map.get(i, j) {
+                        squares.0 += (z - mean) * (z - mean);
+                        squares.1 += 1;
+                    }
+                }
+            }
+            // A tile holds whole blocks, in id order once sorted.
+            for b in built {
+                counts[b.key.block] += 1;
+                let position = [b.position[0] + 0.0, b.position[1] + y_shift];
+                digest.push_probed(position, b.height, &b.probed);
+                digest.push_summit_radius(b.radius);
+                top = top.max(b.height);
+            }
+        })?;
+        road.top = top;
+        if counts.iter().all(|&c| c == 0) {
             return Err(TextureRoadError::NoAsperity { segmented });
         }
-        all.sort_by(|a, b| order(&a.key, &b.key));
-        let mut digest = rolling::RoadDigest::new(all.len());
-        let mut top = f64::NEG_INFINITY;
-        for a in &all {
-            digest.push_probed(a.position, a.height, &a.probed);
-            top = top.max(a.height);
+        for (b, c) in counts.iter().enumerate() {
+            road.block_start[b + 1] = road.block_start[b] + c;
         }
-        let radii: Vec<f64> = all.iter().map(|a| a.radius).collect();
-        digest.summit_radii(&radii);
-        road.keys = all.iter().map(|a| a.key).collect();
-        road.top = top;
         road.digest = digest.finish();
         road.segmented = segmented;
+        road.rms = (squares.0 / squares.1 as f64).sqrt();
         Ok(road)
     }
-
     /// Asperities of the whole road.
     pub fn len(&self) -> usize {
-        self.keys.len()
+        self.block_start.last().copied().unwrap_or(0)
     }
 
     /// Never true: [`NpyTextureRoad::open`] refuses a road without
     /// asperities.
     pub fn is_empty(&self) -> bool {
-        self.keys.is_empty()
+        self.len() == 0
     }
 
     /// Asperities the whole map's segmentation finds (some without a depth
@@ -201,10 +240,34 @@ impl NpyTextureRoad {
         self.digest
     }
 
+    /// The map's points along x and y.
+    pub fn size(&self) -> (usize, usize) {
+        (self.layout.nx, self.layout.ny)
+    }
+
+    /// The map's grid spacing along x and y (m).
+    pub fn spacing(&self) -> (f64, f64) {
+        self.spacing
+    }
+
+    /// Sq of the map's valid heights (m): their root mean square about
+    /// their mean, summed tile by tile (equal to
+    /// [`crate::texture::HeightMap::rms`] of the whole map to rounding).
+    pub fn rms(&self) -> f64 {
+        self.rms
+    }
+
+    /// Ids of the asperities of each id block: `block_start()[b]..
+    /// block_start()[b + 1]` are block `b`'s (module documentation).
+    pub fn block_start(&self) -> &[usize] {
+        &self.block_start
+    }
+
     /// The window of the road holding every asperity whose summit `x` lies
     /// in `[x0, x1]` (m), by the whole road's ids, with its summit radii,
     /// `z_max` and digest: rolled on steps whose footprints lie in the
-    /// range, it gives the whole road's records.
+    /// range, it gives the whole road's records. It holds the whole id
+    /// blocks those summits can lie in, so a few more.
     ///
     /// # Errors
     /// [`TextureRoadError::InvalidInput`] for a range off the map or
@@ -224,7 +287,9 @@ impl NpyTextureRoad {
                 "road window x ∈ [{x0}, {x1}] m is off the map's {nx} columns at {dx} m"
             )));
         }
-        let own = from as usize..to as usize;
+        let (from, to) = (from as usize, to as usize);
+        let own = (from / ID_BLOCK_COLUMNS * ID_BLOCK_COLUMNS)
+            ..(to.div_ceil(ID_BLOCK_COLUMNS) * ID_BLOCK_COLUMNS).min(nx);
         let (win, map) = self.certified(&own)?;
         let mut built = Vec::new();
         self.build(&win, &map, &own, |b| built.push(b))?;
@@ -234,19 +299,7 @@ impl NpyTextureRoad {
                 "road window x ∈ [{x0}, {x1}] m holds no asperity"
             )));
         }
-        let mut ids = Vec::with_capacity(built.len());
-        for b in &built {
-            let id = self
-                .keys
-                .binary_search_by(|k| order(k, &b.key))
-                .map_err(|_| {
-                    TextureRoadError::InvalidInput(format!(
-                        "asperity at map point {} is not on the whole road",
-                        b.key.1
-                    ))
-                })?;
-            ids.push(id);
-        }
+        let ids = self.ids(built.iter().map(|b| b.key.block))?;
         let mut positions = Vec::with_capacity(built.len());
         let mut heights = Vec::with_capacity(built.len());
         let mut laws = Vec::with_capacity(built.len());
@@ -262,9 +315,111 @@ impl NpyTextureRoad {
         let set = AsperitySet::new(positions, heights, laws)
             .and_then(|s| s.translated([0.0, -self.y_mid()]))
             .map_err(|e| invalid(&e))?;
-        rolling::Road::window_of(set, ids, self.keys.len(), self.top, self.digest)
+        rolling::Road::window_of(set, ids, self.len(), self.top, self.digest)
             .and_then(|r| r.window_with_summit_radii(radii))
             .map_err(|e| invalid(&e))
+    }
+
+    /// Every summit of the whole road in id order: `sink(id, position,
+    /// height)` (m, in the road's frame, as [`rolling::Road::positions`]
+    /// and [`rolling::Road::heights`] of the whole road), streamed a tile
+    /// at a time (each tile's laws are built to know which asperities the
+    /// road keeps, then dropped: the time of the open pass, the memory of
+    /// a tile). Callable any number of times.
+    ///
+    /// # Errors
+    /// As [`NpyTextureRoad::open`] for the file;
+    /// [`TextureRoadError::InvalidInput`] if the file changed since it was
+    /// opened (a block's count differs).
+    pub fn summits(
+        &self,
+        mut sink: impl FnMut(usize, [f64; 2], f64),
+    ) -> Result<(), TextureRoadError> {
+        let y_shift = -self.y_mid();
+        let mut failed = None;
+        self.for_each_tile(|_, _, _, built| {
+            if failed.is_some() {
+                return;
+            }
+            match self.ids(built.iter().map(|b| b.key.block)) {
+                Ok(ids) => {
+                    for (id, b) in ids.into_iter().zip(built) {
+                        sink(id, [b.position[0] + 0.0, b.position[1] + y_shift], b.height);
+                    }
+                }
+                Err(e) => failed = Some(e),
+            }
+        })?;
+        failed.map_or(Ok(()), Err)
+    }
+
+    /// The ids of asperities of whole blocks sorted in id order, given
+    /// their blocks: `block_start[b]` plus the rank within the block.
+    fn ids(&self, blocks: impl Iterator<Item = usize>) -> Result<Vec<usize>, TextureRoadError> {
+        let mut ids = Vec::new();
+        let mut current: Option<(usize, usize)> = None;
+        let close = |block: usize, rank: usize| -> Result<(), TextureRoadError> {
+            let expected = self.block_start[block + 1] - self.block_start[block];
+            if rank == expected {
+                Ok(())
+            } else {
+                Err(TextureRoadError::InvalidInput(format!(
+                    "{}: id block {block} holds {rank} asperities, {expected} when it was \
+                     opened (the file changed?)",
+                    self.path.display()
+                )))
+            }
+        };
+        for block in blocks {
+            let rank = match current {
+                Some((b, r)) if b == block => r,
+                Some((b, r)) => {
+                    close(b, r)?;
+                    0
+                }
+                None => 0,
+            };
+            if block + 1 >= self.block_start.len() {
+                return Err(TextureRoadError::InvalidInput(format!(
+                    "{}: id block {block} is off the map (the file changed?)",
+                    self.path.display()
+                )));
+            }
+            ids.push(self.block_start[block] + rank);
+            current = Some((block, rank + 1));
+        }
+        if let Some((b, r)) = current {
+            close(b, r)?;
+        }
+        Ok(ids)
+    }
+
+    /// Each tile of the map in turn (whole id blocks): `f(window, map,
+    /// own columns, the asperities whose summit lies in them, in id
+    /// order)`. Each law is probed and dropped as it is built: a tile's
+    /// laws are never held at once.
+    fn for_each_tile(
+        &self,
+        mut f: impl FnMut(&WindowSegmentation, &crate::texture::HeightMap, &Range<usize>, Vec<Probed>),
+    ) -> Result<(), TextureRoadError> {
+        let nx = self.layout.nx;
+        for t0 in (0..nx).step_by(self.tile) {
+            let own = t0..(t0 + self.tile).min(nx);
+            let (win, map) = self.certified(&own)?;
+            let mut built = Vec::new();
+            self.build(&win, &map, &own, |b| {
+                built.push(Probed {
+                    key: b.key,
+                    position: b.position,
+                    height: b.height,
+                    radius: b.radius,
+                    probed: rolling::RoadDigest::probe(&b.law),
+                });
+            })?;
+            built.sort_by(|a, b| order(&a.key, &b.key));
+            f(&win, &map, &own, built);
+        }
+        Ok(())
     }
 
     /// The map's mid-width (m): the road's y is centred on it.
@@ -278,17 +433,21 @@ impl NpyTextureRoad {
     }
 
     /// The map's first point in the segmentation's order (highest valid
-    /// point, ties by the lowest `j·nx + i`), tile by tile.
-    fn first_point(&self, tile: usize) -> Result<(usize, usize), TextureRoadError> {
+    /// point, ties by the lowest `j·nx + i`) and the valid heights' mean
+    /// (m), tile by tile.
+    fn first_point(&self) -> Result<((usize, usize), f64), TextureRoadError> {
         let nx = self.layout.nx;
         let mut best: Option<(f64, usize)> = None;
-        for t0 in (0..nx).step_by(tile) {
-            let map = self.read(t0..(t0 + tile).min(nx))?;
+        let (mut sum, mut count) = (0.0, 0usize);
+        for t0 in (0..nx).step_by(self.tile) {
+            let map = self.read(t0..(t0 + self.tile).min(nx))?;
             for j in 0..map.ny() {
                 for i in 0..map.nx() {
                     let Some(z) = map.get(i, j) else { continue };
+                    sum += z;
+                    count += 1;
                     let key = (z, j * nx + i + t0);
-                    if best.is_none_or(|b| order(&key, &b).is_lt()) {
+                    if best.is_none_or(|b| point_order(&key, &b).is_lt()) {
                         best = Some(key);
                     }
                 }
@@ -300,7 +459,7 @@ impl NpyTextureRoad {
                 self.path.display()
             ))
         })?;
-        Ok((k % nx, k / nx))
+        Ok(((k % nx, k / nx), sum / count as f64))
     }
 
     /// A window certifying the columns `own`: read with a halo, doubled
@@ -372,7 +531,11 @@ impl NpyTextureRoad {
             let grid = map.get(i, j).unwrap_or(f64::NAN);
             let radius = equivalent_radius(a, &law);
             sink(Built {
-                key: (grid, index),
+                key: Key {
+                    block: (i + win.first_column()) / ID_BLOCK_COLUMNS,
+                    grid,
+                    index,
+                },
                 position: a.summit,
                 height: a.summit_height,
                 law,

@@ -130,16 +130,41 @@ pub fn input_hash<L: ContactLaw>(
 /// order: a window of a road ([`Road::window_of`]) is given the digest of
 /// its whole road, computed by whoever can stream the whole road's
 /// asperities without holding them (the synthetic road's window builder).
+///
+/// The road's count is folded in last and the summit radii, when the road
+/// has them, are hashed apart (their own FNV stream), so that a road can be
+/// fed one asperity at a time in id order without knowing its count first
+/// or holding its radii ([`RoadDigest::streamed`]): the digest is
+/// `FNV(magic, asperities…, len[, 3, FNV(radii…)])`.
 #[derive(Debug)]
-pub struct RoadDigest(Fnv);
+pub struct RoadDigest {
+    asperities: Fnv,
+    /// The count given to [`RoadDigest::new`]; `None`: those pushed.
+    len: Option<u64>,
+    pushed: u64,
+    radii: Option<Fnv>,
+}
 
 impl RoadDigest {
     /// A digest of a road of `len` asperities.
     pub fn new(len: usize) -> Self {
+        Self {
+            len: Some(len as u64),
+            ..Self::streamed()
+        }
+    }
+
+    /// A digest of a road whose count is that of the asperities pushed
+    /// (the same digest as [`RoadDigest::new`] with that count).
+    pub fn streamed() -> Self {
         let mut h = Fnv::new();
         h.bytes(MAGIC.as_bytes());
-        h.u(len as u64);
-        Self(h)
+        Self {
+            asperities: h,
+            len: None,
+            pushed: 0,
+            radii: None,
+        }
     }
 
     /// The next asperity (by id): summit position (m), height (m), law.
@@ -165,7 +190,8 @@ impl RoadDigest {
         height: f64,
         probed: &[(f64, f64); PROBES.len()],
     ) {
-        let h = &mut self.0;
+        self.pushed += 1;
+        let h = &mut self.asperities;
         h.f(position[0]);
         h.f(position[1]);
         h.f(height);
@@ -175,20 +201,30 @@ impl RoadDigest {
         }
     }
 
-    /// Each asperity's summit curvature radius (m, by id), after every
-    /// asperity was pushed, when the road has them (contact-point gaps): a
-    /// road without them hashes as before.
+    /// Each asperity's summit curvature radius (m, by id), when the road
+    /// has them (contact-point gaps): a road without them hashes as before.
     pub fn summit_radii(&mut self, radii: &[f64]) {
-        let h = &mut self.0;
-        h.u(3);
         for &r in radii {
-            h.f(r);
+            self.push_summit_radius(r);
         }
     }
 
-    /// The digest, after every asperity was pushed.
+    /// The next asperity's summit curvature radius (m, by id): as
+    /// [`RoadDigest::summit_radii`], one at a time, interleaved with
+    /// [`RoadDigest::push`] or not (the radii are hashed apart).
+    pub fn push_summit_radius(&mut self, radius: f64) {
+        self.radii.get_or_insert_with(Fnv::new).f(radius);
+    }
+
+    /// The digest, after every asperity (and radius) was pushed.
     pub fn finish(&self) -> u64 {
-        self.0.0
+        let mut h = Fnv(self.asperities.0);
+        h.u(self.len.unwrap_or(self.pushed));
+        if let Some(radii) = &self.radii {
+            h.u(3);
+            h.u(radii.0);
+        }
+        h.0
     }
 }
 

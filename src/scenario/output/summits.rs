@@ -107,6 +107,87 @@ impl SummitSource for tyreroad_rolling::SummitStream {
     }
 }
 
+impl SummitSource for crate::texture_road::window::NpyTextureRoad {
+    fn count(&self) -> usize {
+        self.len()
+    }
+
+    /// One streaming pass over the file per call (each tile's caps are
+    /// rebuilt to know which asperities the road keeps).
+    fn each(&self, visit: &mut Visit<'_>) -> std::io::Result<()> {
+        let mut outcome = Ok(());
+        self.summits(|_, p, z| {
+            if outcome.is_ok() {
+                outcome = visit(p, z);
+            }
+        })
+        .map_err(std::io::Error::other)?;
+        outcome
+    }
+}
+
+/// Summits walked once from a costly source into an unnamed temporary file
+/// (24 B each, removed by the system when dropped) and read back from it
+/// for each member: a `.npy` texture road, whose walk rebuilds its caps
+/// tile by tile, is walked once, and nothing of it stays in memory.
+#[derive(Debug)]
+pub struct SpilledSummits {
+    file: std::sync::Mutex<std::fs::File>,
+    count: usize,
+}
+
+/// Bytes of one spilled summit: `x`, `y`, `z`, little-endian `f64`.
+const SPILLED: usize = 24;
+
+impl SpilledSummits {
+    /// Walks `source` once into a temporary file.
+    ///
+    /// # Errors
+    /// The file cannot be created or written, or `source` fails.
+    pub fn from_source(source: &dyn SummitSource) -> std::io::Result<Self> {
+        let mut out = std::io::BufWriter::new(tempfile::tempfile()?);
+        let mut count = 0usize;
+        source.each(&mut |p, z| {
+            count += 1;
+            out.write_all(&p[0].to_le_bytes())?;
+            out.write_all(&p[1].to_le_bytes())?;
+            out.write_all(&z.to_le_bytes())
+        })?;
+        let file = out.into_inner().map_err(|e| e.into_error())?;
+        Ok(Self {
+            file: std::sync::Mutex::new(file),
+            count,
+        })
+    }
+}
+
+impl SummitSource for SpilledSummits {
+    fn count(&self) -> usize {
+        self.count
+    }
+
+    fn each(&self, visit: &mut Visit<'_>) -> std::io::Result<()> {
+        use std::io::{Read, Seek};
+        let mut file = self
+            .file
+            .lock()
+            .map_err(|_| std::io::Error::other("the summit spill's lock is poisoned"))?;
+        file.rewind()?;
+        let mut input = std::io::BufReader::new(&mut *file);
+        let mut summit = [0u8; SPILLED];
+        for _ in 0..self.count {
+            input.read_exact(&mut summit)?;
+            let f = |k: usize| {
+                let mut b = [0u8; 8];
+                b.copy_from_slice(&summit[8 * k..8 * k + 8]);
+                f64::from_le_bytes(b)
+            };
+            visit([f(0), f(1)], f(2))?;
+        }
+        Ok(())
+    }
+}
+
 /// Every summit of `source` in a `Vec`s (for tests and small roads).
 ///
 /// # Errors
@@ -226,6 +307,31 @@ mod tests {
         write_road_npz_from(&mut set, &stream).unwrap();
         set.commit().unwrap();
         let whole = super::super::road_npz(&positions, &heights).unwrap();
+        assert!(std::fs::read(dir.join("road.npz")).unwrap() == whole);
+    }
+
+    /// A spill lists its source's summits bit for bit, every time it is
+    /// walked, and a spilled road writes the archive built whole.
+    #[test]
+    fn spilled_summits_list_their_source_on_every_walk() {
+        let source = SummitSlices {
+            positions: (0..1000)
+                .map(|k| [k as f64 * 1e-3, (k as f64).sin() * 1e-2])
+                .collect(),
+            heights: (0..1000).map(|k| -(k as f64).cos() * 1e-3).collect(),
+        };
+        let spill = SpilledSummits::from_source(&source).unwrap();
+        assert_eq!(spill.count(), 1000);
+        for _ in 0..2 {
+            let listed = collect_summits(&spill).unwrap();
+            assert_eq!(listed, source);
+        }
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        let mut set = OutputSet::new(&dir).unwrap();
+        write_road_npz_from(&mut set, &spill).unwrap();
+        set.commit().unwrap();
+        let whole = super::super::road_npz(&source.positions, &source.heights).unwrap();
         assert!(std::fs::read(dir.join("road.npz")).unwrap() == whole);
     }
 }
