@@ -540,6 +540,8 @@ mod caps_tests;
 #[cfg(test)]
 mod refine_tests;
 #[cfg(test)]
+mod split_tests;
+#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod visco_compare_tests;
