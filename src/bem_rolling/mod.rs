@@ -57,12 +57,15 @@
 //! - a step's result depends on its warm start only within the BEM
 //!   tolerance ([`BemRollingOptions::tolerance`]).
 
+mod caps;
 mod compare;
 mod refine;
 mod run_scenario;
+mod split;
 mod visco;
 mod visco_compare;
 
+pub use caps::cap_sensor_forces;
 pub use compare::{
     BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
     third_octave_policy,
@@ -74,6 +77,7 @@ pub use refine::{
 pub use run_scenario::{
     BemRollingRun, Stretch, run_scenario_comparison, run_scenario_comparison_against, texture_field,
 };
+pub use split::{AsperityShare, StepSplit, asperity_split};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};
 pub use visco_compare::{ViscoBemRollingRun, run_visco_scenario_comparison};
 
@@ -253,28 +257,9 @@ pub fn roll_bem(
         )));
     }
     let g = road.grid();
-    let (hx, hy) = config.tread.half_extents();
+    let (hx, _) = config.tread.half_extents();
     let m = config.tread.effective_margin(config.margin);
-    let nx = window_cells(hx + m, g.dx());
-    // Across the path the window is clipped to the map (no road there, as
-    // the multipoint road has no asperity there); along it, the footprint
-    // must stay on the map.
-    let j_first = first_cell(config.lateral - hy - m, g.origin()[1], g.dy());
-    let j_end = j_first + window_cells(hy + m, g.dy()) as i64;
-    let (j0, j1) = (j_first.max(0), j_end.min(g.ny() as i64));
-    if j1 <= j0 {
-        return Err(BemRollingError::OffMap {
-            step: 0,
-            position: config.start,
-            axis: "y",
-            first: j_first,
-            end: j_end,
-            available: g.ny(),
-        });
-    }
-    let (j0, ny) = (j0 as usize, (j1 - j0) as usize);
-    let window_grid = Grid::new(nx, ny, g.dx(), g.dy())
-        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+    let (window_grid, (nx, j0, ny)) = window_layout(road, config)?;
     let bem_options = BemOptions {
         tolerance: options.tolerance,
         max_iterations: options.max_iterations,
@@ -323,6 +308,36 @@ pub fn roll_bem(
         sample_rate: config.sample_rate(),
         window: (nx, ny),
     })
+}
+
+/// The footprint window's grid and its cells `(nx, j0, ny)`: `nx` along
+/// the path, rows `j0 .. j0 + ny` across (clipped to the map: no road
+/// there, as the multipoint road has no asperity there).
+fn window_layout(
+    road: &Field,
+    config: &RollingConfig,
+) -> Result<(Grid, (usize, usize, usize)), BemRollingError> {
+    let g = road.grid();
+    let (hx, hy) = config.tread.half_extents();
+    let m = config.tread.effective_margin(config.margin);
+    let nx = window_cells(hx + m, g.dx());
+    let j_first = first_cell(config.lateral - hy - m, g.origin()[1], g.dy());
+    let j_end = j_first + window_cells(hy + m, g.dy()) as i64;
+    let (j0, j1) = (j_first.max(0), j_end.min(g.ny() as i64));
+    if j1 <= j0 {
+        return Err(BemRollingError::OffMap {
+            step: 0,
+            position: config.start,
+            axis: "y",
+            first: j_first,
+            end: j_end,
+            available: g.ny(),
+        });
+    }
+    let (j0, ny) = (j0 as usize, (j1 - j0) as usize);
+    let grid = Grid::new(nx, ny, g.dx(), g.dy())
+        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+    Ok((grid, (nx, j0, ny)))
 }
 
 /// The window of step `k` (rows `j0 .. j0 + ny`), checked to lie on the
@@ -521,7 +536,11 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
 }
 
 #[cfg(test)]
+mod caps_tests;
+#[cfg(test)]
 mod refine_tests;
+#[cfg(test)]
+mod split_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

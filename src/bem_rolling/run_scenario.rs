@@ -13,7 +13,8 @@ use crate::texture::HeightMap;
 use crate::texture_road::texture_road;
 
 use super::{
-    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare, roll_bem,
+    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, cap_sensor_forces,
+    compare, roll_bem,
 };
 
 /// Both runs of one stretch and their comparison.
@@ -38,6 +39,11 @@ pub struct BemRollingRun {
     /// calibrated laws (`[model] fidelity = "calibrated"`: a second run
     /// would calibrate the road again).
     pub summit_gaps: Option<(RollingResult, RollingComparison)>,
+    /// The same multipoint run with each contact's force spread on the
+    /// sensors as its own cap's BEM pressure ([`super::cap_sensor_forces`]):
+    /// its sensor forces (one row per sensor) and its comparison with the
+    /// BEM (its `sensors`; the other signals are the run's).
+    pub caps: (Vec<Vec<f64>>, RollingComparison),
 }
 
 /// The texture's height map in the road frame of a scenario's rolling run:
@@ -157,6 +163,16 @@ pub fn run_scenario_comparison_against(
         reference_force,
         segment,
     )?;
+    let caps = cap_run(
+        &scenario,
+        &map,
+        &road,
+        &multipoint,
+        options,
+        reference_force,
+        segment,
+        &bem,
+    )?;
     let summit_gaps = if scenario.model.fidelity()? == Fidelity::Wilke {
         let summit_result = summit_gap_run(&scenario, &map, config, par)?;
         let summit_comparison = compare(
@@ -179,7 +195,54 @@ pub fn run_scenario_comparison_against(
         bem_time,
         road_grid: (map.nx(), map.ny(), map.dx()),
         summit_gaps,
+        caps,
     })
+}
+
+/// The multipoint run's sensors counted with each contact's force spread
+/// as its cap's pressure, and that run's comparison with the BEM.
+#[allow(clippy::too_many_arguments)]
+fn cap_run(
+    scenario: &Scenario,
+    map: &HeightMap,
+    road: &Field,
+    multipoint: &RollingRun,
+    options: &BemRollingOptions,
+    reference_force: f64,
+    segment: Option<usize>,
+    bem: &BemRollingResult,
+) -> Result<(Vec<Vec<f64>>, RollingComparison), BemRollingError> {
+    let texture = scenario.texture.as_ref().ok_or_else(|| {
+        BemRollingError::InvalidInput("the BEM rolling reference needs a [texture]".into())
+    })?;
+    let material = scenario.material()?;
+    let troad = texture_road(map, material, &texture.road_options())
+        .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
+    let config = &multipoint.config;
+    let forces = cap_sensor_forces(
+        &multipoint.result,
+        &multipoint.road_positions,
+        config,
+        road,
+        &troad,
+        &material,
+        options,
+    )?;
+    let mut result = multipoint.result.clone();
+    for (k, step) in result.steps.iter_mut().enumerate() {
+        for (s, f) in step.sensor_forces.iter_mut().enumerate() {
+            *f = forces[s][k];
+        }
+    }
+    let comparison = compare(
+        &result,
+        &multipoint.road_positions,
+        &config.sensors,
+        bem,
+        reference_force,
+        segment,
+    )?;
+    Ok((forces, comparison))
 }
 
 /// The scenario's multipoint run rebuilt with the tread gaps at the

@@ -134,6 +134,10 @@ fn print_report(name: &str, run: &BemRollingRun) {
     for s in &c.sensors_summit {
         row(&format!("{} (summits)", s.name), s);
     }
+    // Each contact's force spread as its own cap's BEM pressure.
+    for s in &run.caps.1.sensors {
+        row(&format!("{} (caps)", s.name), s);
+    }
     // The model before the contact-point gaps, against the same BEM run.
     // (Not run on calibrated laws: it would calibrate the road again.)
     let g = run.summit_gaps.as_ref().map(|(_, c)| c);
@@ -204,6 +208,8 @@ struct SensorRow<'a> {
     model_summit_gaps_n: f64,
     #[serde(serialize_with = "fmt::sci9")]
     bem_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_caps_n: f64,
 }
 
 /// One band of one signal.
@@ -254,6 +260,7 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
                 model_summits_n: summit[k][i],
                 model_summit_gaps_n: gap_steps.get(i).map_or(f64::NAN, |g| g.sensor_forces[k]),
                 bem_n: b.sensor_forces[k],
+                model_caps_n: run.caps.0[k][i],
             });
         }
     }
@@ -276,6 +283,13 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             .iter()
             .flat_map(|(_, g)| g.sensors.iter())
             .map(|s| (s.name.as_str(), "summit gaps", s)),
+    )
+    .chain(
+        run.caps
+            .1
+            .sensors
+            .iter()
+            .map(|s| (s.name.as_str(), "caps", s)),
     );
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {
