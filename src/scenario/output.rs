@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use super::ScenarioError;
 
+mod npz_stream;
 pub mod steps_stream;
 pub mod summits;
 pub mod swap;

@@ -26,6 +26,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 use tyreroad_rolling::{StepRecord, StepStatus};
 
+use super::npz_stream::{Element, NpzStream, io, npz_error, write_f64s};
 use super::{OutputSet, ScenarioError, fmt};
 
 /// `time_signals.csv`'s row (its columns and number formats).
@@ -206,25 +207,9 @@ pub struct StepStream {
     signals: StepSignals,
 }
 
-fn io(action: &'static str, path: &std::path::Path) -> impl Fn(std::io::Error) -> ScenarioError {
-    let path = path.to_path_buf();
-    move |source| ScenarioError::Io {
-        action,
-        path: path.clone(),
-        source,
-    }
-}
-
 fn csv_error(e: csv::Error) -> ScenarioError {
     ScenarioError::Encode {
         what: "CSV".into(),
-        message: e.to_string(),
-    }
-}
-
-fn npz_error(e: &dyn std::fmt::Display) -> ScenarioError {
-    ScenarioError::Encode {
-        what: ".npz".into(),
         message: e.to_string(),
     }
 }
@@ -424,156 +409,6 @@ impl StepStream {
     }
 }
 
-/// `road.npz` ([`super::road_npz`]'s bytes) written into `set` member by
-/// member from the summits ([`super::summits::write_road_npz_from`] for a
-/// road that lists its summits on demand).
-///
-/// # Errors
-/// [`ScenarioError::Io`] / [`ScenarioError::Encode`] if the file cannot be
-/// written, or the two lists differ in length.
-pub fn write_road_npz(
-    set: &mut OutputSet,
-    positions: &[[f64; 2]],
-    heights: &[f64],
-) -> Result<(), ScenarioError> {
-    if positions.len() != heights.len() {
-        return Err(npz_error(&format!(
-            "{} summit positions but {} heights",
-            positions.len(),
-            heights.len()
-        )));
-    }
-    let source = super::summits::SummitRefs { positions, heights };
-    super::summits::write_road_npz_from(set, &source)
-}
-
-/// An `.npz` archive written member by member into a staged file, each
-/// member's bytes handed to the deflater as [`super::NpzBuilder`] hands
-/// them ([`Pieces`]).
-pub(super) struct NpzStream {
-    path: PathBuf,
-    zip: zip::ZipWriter<BufWriter<File>>,
-}
-
-impl NpzStream {
-    pub(super) fn create(set: &mut OutputSet, name: &str) -> Result<Self, ScenarioError> {
-        let path = set.staging_path(name);
-        let file = File::create(&path).map_err(io("creating", &path))?;
-        Ok(Self {
-            path,
-            zip: zip::ZipWriter::new(BufWriter::new(file)),
-        })
-    }
-
-    /// Member `name.npy` of `shape`, its data written by `body`.
-    pub(super) fn member(
-        &mut self,
-        name: &str,
-        shape: &[usize],
-        elem: Element,
-        body: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
-    ) -> Result<(), ScenarioError> {
-        let options = zip::write::SimpleFileOptions::default()
-            .compression_method(zip::CompressionMethod::Deflated);
-        self.zip
-            .start_file(format!("{name}.npy"), options)
-            .map_err(|e| npz_error(&e))?;
-        let mut pieces = Pieces::new(&mut self.zip);
-        npy_header(&mut pieces, shape, elem).map_err(|e| npz_error(&e))?;
-        body(&mut pieces).map_err(|e| npz_error(&e))?;
-        pieces.finish().map_err(io("writing", &self.path))
-    }
-
-    pub(super) fn finish(self) -> Result<(), ScenarioError> {
-        let file = self.zip.finish().map_err(|e| npz_error(&e))?;
-        file.into_inner().map_err(|e| npz_error(&e))?;
-        Ok(())
-    }
-}
-
-/// Hands a member's bytes on in pieces of exactly
-/// [`super::DEFLATE_CHUNK`] bytes (the last one shorter), as
-/// [`super::NpzBuilder`] cuts them: deflate's output depends on the cut.
-/// A `BufWriter` would not do: it hands on a part-full buffer when a write
-/// does not fit.
-struct Pieces<W: Write> {
-    inner: W,
-    piece: Vec<u8>,
-}
-
-impl<W: Write> Pieces<W> {
-    fn new(inner: W) -> Self {
-        Self {
-            inner,
-            piece: Vec::with_capacity(super::DEFLATE_CHUNK),
-        }
-    }
-
-    /// Hands on the last piece. Not `flush`: the deflater's flush ends a
-    /// block with a sync marker that the whole member's bytes do not have.
-    fn finish(mut self) -> std::io::Result<()> {
-        self.inner.write_all(&self.piece)
-    }
-}
-
-impl<W: Write> Write for Pieces<W> {
-    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
-        let room = super::DEFLATE_CHUNK - self.piece.len();
-        let taken = room.min(bytes.len());
-        self.piece.extend_from_slice(&bytes[..taken]);
-        if self.piece.len() == super::DEFLATE_CHUNK {
-            self.inner.write_all(&self.piece)?;
-            self.piece.clear();
-        }
-        Ok(taken)
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
-
-/// The element types of `steps.npz`'s members.
-#[derive(Clone, Copy)]
-pub(super) enum Element {
-    F64,
-    I64,
-    U64,
-}
-
-/// The `.npy` header of an array of `shape` (C order), exactly as
-/// [`super::npy_bytes`] writes it, for data that follows it.
-fn npy_header(w: &mut dyn Write, shape: &[usize], elem: Element) -> std::io::Result<()> {
-    use npyz::WriterBuilder;
-    let shape: Vec<u64> = shape.iter().map(|&n| n as u64).collect();
-    match elem {
-        Element::F64 => npyz::WriteOptions::<f64>::new()
-            .default_dtype()
-            .shape(&shape)
-            .writer(w)
-            .write_header_only()
-            .map(|_| ()),
-        Element::I64 => npyz::WriteOptions::<i64>::new()
-            .default_dtype()
-            .shape(&shape)
-            .writer(w)
-            .write_header_only()
-            .map(|_| ()),
-        Element::U64 => npyz::WriteOptions::<u64>::new()
-            .default_dtype()
-            .shape(&shape)
-            .writer(w)
-            .write_header_only()
-            .map(|_| ()),
-    }
-}
-
-fn write_f64s(w: &mut dyn Write, values: &[f64]) -> std::io::Result<()> {
-    values
-        .iter()
-        .try_for_each(|x| w.write_all(&x.to_le_bytes()))
-}
-
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {
@@ -707,28 +542,6 @@ mod tests {
         assert_eq!(signals.overlapping_steps, 20_000usize.div_ceil(97));
         let not_converged: Vec<usize> = signals.not_converged.iter().map(|s| s.index).collect();
         assert_eq!(not_converged, [3, 10_000]);
-    }
-
-    /// `road.npz` written member by member is `road_npz`'s bytes, on a
-    /// road whose members span several deflate pieces; lists of unequal
-    /// length are refused.
-    #[test]
-    fn streamed_road_npz_equals_the_whole_archive() {
-        let n: usize = 70_000;
-        let positions: Vec<[f64; 2]> = (0..n)
-            .map(|i| [i as f64 * 1.3e-5, ((i * 7919) % 1000) as f64 * 8e-5])
-            .collect();
-        let heights: Vec<f64> = (0..n)
-            .map(|i| ((i * 104_729) % 997) as f64 * 1e-6)
-            .collect();
-        let parent = tempfile::tempdir().unwrap();
-        let dir = parent.path().join("out");
-        let mut set = OutputSet::new(&dir).unwrap();
-        write_road_npz(&mut set, &positions, &heights).unwrap();
-        assert!(write_road_npz(&mut set, &positions, &heights[1..]).is_err());
-        set.commit().unwrap();
-        let whole = super::super::road_npz(&positions, &heights).unwrap();
-        assert!(std::fs::read(dir.join("road.npz")).unwrap() == whole);
     }
 
     /// A record out of path order is refused, naming both steps; a stream

@@ -18,7 +18,7 @@
 
 use std::io::Write;
 
-use super::steps_stream::{Element, NpzStream};
+use super::npz_stream::{Element, NpzStream, npz_error};
 use super::{OutputSet, ScenarioError};
 
 /// What a summit visitor returns: an I/O error stops the walk.
@@ -234,6 +234,29 @@ pub fn write_road_npz_from(
     npz.finish()
 }
 
+/// `road.npz` ([`super::road_npz`]'s bytes) written into `set` member by
+/// member from the summits ([`write_road_npz_from`] for a
+/// road that lists its summits on demand).
+///
+/// # Errors
+/// [`ScenarioError::Io`] / [`ScenarioError::Encode`] if the file cannot be
+/// written, or the two lists differ in length.
+pub fn write_road_npz(
+    set: &mut OutputSet,
+    positions: &[[f64; 2]],
+    heights: &[f64],
+) -> Result<(), ScenarioError> {
+    if positions.len() != heights.len() {
+        return Err(npz_error(&format!(
+            "{} summit positions but {} heights",
+            positions.len(),
+            heights.len()
+        )));
+    }
+    let source = SummitRefs { positions, heights };
+    write_road_npz_from(set, &source)
+}
+
 /// What a member of `road.npz` writes of one summit.
 type Field = fn([f64; 2], f64, &mut dyn Write) -> std::io::Result<()>;
 
@@ -264,6 +287,28 @@ fn walk(source: &dyn SummitSource, w: &mut dyn Write, field: Field) -> std::io::
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
+
+    /// `road.npz` written member by member is `road_npz`'s bytes, on a
+    /// road whose members span several deflate pieces; lists of unequal
+    /// length are refused.
+    #[test]
+    fn streamed_road_npz_equals_the_whole_archive() {
+        let n: usize = 70_000;
+        let positions: Vec<[f64; 2]> = (0..n)
+            .map(|i| [i as f64 * 1.3e-5, ((i * 7919) % 1000) as f64 * 8e-5])
+            .collect();
+        let heights: Vec<f64> = (0..n)
+            .map(|i| ((i * 104_729) % 997) as f64 * 1e-6)
+            .collect();
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        let mut set = OutputSet::new(&dir).unwrap();
+        write_road_npz(&mut set, &positions, &heights).unwrap();
+        assert!(write_road_npz(&mut set, &positions, &heights[1..]).is_err());
+        set.commit().unwrap();
+        let whole = super::super::road_npz(&positions, &heights).unwrap();
+        assert!(std::fs::read(dir.join("road.npz")).unwrap() == whole);
+    }
 
     /// A source that says one count and lists another.
     #[derive(Debug)]
