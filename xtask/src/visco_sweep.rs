@@ -1,4 +1,4 @@
-//! `cargo xtask visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
+//! `cargo xtask visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0degC,20degC,40degC]`:
 //! viscoelastic rolling runs of a scenario with `[material.viscoelastic]`
 //! (docs/viscoelastic.md, "Rolling"), one per speed (at the scenario's
 //! temperature) and one per temperature (at the scenario's speed), on one
