@@ -172,7 +172,7 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
             if !s.loads.is_empty() {
                 return Err(bad(
                     "[static] loads",
-                    format!("{} loads beside a [static.history]", s.loads.len()),
+                    "given beside a [static.history]",
                     "either loads or a [static.history], not both (a history runs alone: \
                      give its loads as segments, or run the loads from another scenario)",
                 ));

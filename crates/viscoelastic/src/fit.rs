@@ -83,7 +83,7 @@ impl MasterCurve {
                 return Err(ViscoError::Csv {
                     line,
                     column: FIELDS.len() + 1,
-                    field: "none (3 columns expected)",
+                    field: "an extra column",
                     message: format!(
                         "{} columns found, 3 expected: frequency (Hz), E' (Pa), E'' (Pa)",
                         fields.len()
