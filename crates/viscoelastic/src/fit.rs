@@ -249,10 +249,7 @@ pub fn fit_prony(
     let decades = (tau_max / tau_min).log10();
     // Within the cap `decades` is finite and at most ~200, so the count
     // cannot overflow; a time that underflows is refused by the fit below.
-    let count = ((decades * per_decade as f64).ceil().max(1.0) as usize)
-        .min(MAX_RELAXATION_TIMES)
-        .max(1)
-        + 1;
+    let count = ((decades * per_decade as f64).ceil() as usize).clamp(1, MAX_RELAXATION_TIMES) + 1;
     let times: Vec<f64> = (0..count)
         .map(|j| tau_min * 10f64.powf(decades * j as f64 / (count - 1) as f64))
         .collect();
