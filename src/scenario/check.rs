@@ -51,7 +51,7 @@ fn bad(key: &str, value: impl std::fmt::Display, expected: &str) -> ScenarioErro
 }
 
 /// `value` must be finite and in `[lo, hi]` (`open_lo`: `> lo`).
-fn in_range(
+pub(super) fn in_range(
     key: &str,
     value: f64,
     [lo, hi]: [f64; 2],
@@ -151,6 +151,9 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
     {
         return Err(bad("[solver] max_iterations", m, "1 to 100000"));
     }
+    if let Some(visco) = &scenario.material.viscoelastic {
+        visco.check()?;
+    }
     if let Some(shape) = &scenario.default_shape {
         check_shape("[default_shape]", shape)?;
     }
@@ -164,6 +167,16 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
         }
         if let Some(history) = &s.history {
             history.samples()?;
+            // Only the history is run: loads given beside it would be
+            // silently dropped.
+            if !s.loads.is_empty() {
+                return Err(bad(
+                    "[static] loads",
+                    "given beside a [static.history]",
+                    "either loads or a [static.history], not both (a history runs alone: \
+                     give its loads as segments, or run the loads from another scenario)",
+                ));
+            }
         }
         for (k, w) in s.loads.iter().enumerate() {
             in_range(

@@ -30,6 +30,7 @@
 use serde::Deserialize;
 use tyreroad_viscoelastic::{Hereditary, Prony, ViscoStep};
 
+use super::check::{LOAD_RANGE, in_range};
 use super::output::{OutputSet, fmt};
 use super::units::{Force, Time};
 use super::{Scenario, ScenarioError};
@@ -60,12 +61,23 @@ pub struct SegmentSpec {
 /// Default steps per segment.
 pub const DEFAULT_SEGMENT_STEPS: usize = 10;
 
+/// Most steps of a whole history (all segments): the bound of a rolling
+/// path, [`tyreroad_rolling::MAX_STEPS`]. Each step is one elastic
+/// multipoint solve and one row per asperity of `history.csv`.
+pub const MAX_HISTORY_STEPS: usize = tyreroad_rolling::MAX_STEPS;
+
+/// Range (s) of a segment's duration: a nanosecond to about 30 years.
+pub const SEGMENT_DURATION_RANGE: [f64; 2] = [1e-9, 1e9];
+
 impl HistorySpec {
     /// The history as `(time (s), load (N))` samples after time 0.
     ///
     /// # Errors
     /// [`ScenarioError::Value`] naming the segment's key for no segment, a
-    /// duration that is not `> 0`, a negative load or zero steps.
+    /// duration outside [`SEGMENT_DURATION_RANGE`], a load outside the
+    /// range of a static load (`[0, 1e7]` N), zero steps, more than
+    /// [`MAX_HISTORY_STEPS`] steps in all, or a step too short to advance
+    /// the time after the segments before it (a nanosecond after 30 years).
     pub fn samples(&self) -> Result<Vec<(f64, f64)>, ScenarioError> {
         let value = |key: String, value: String, expected: &str| ScenarioError::Value {
             key,
@@ -86,22 +98,41 @@ impl HistorySpec {
                 "at least 1",
             ));
         }
+        // Counted before anything is allocated: a runaway step count is an
+        // error, not an allocation.
+        let mut total = 0usize;
+        for (k, segment) in self.segments.iter().enumerate() {
+            let steps = segment
+                .steps
+                .or(self.steps)
+                .unwrap_or(DEFAULT_SEGMENT_STEPS);
+            total = total.saturating_add(steps);
+            if total > MAX_HISTORY_STEPS {
+                let key = match (segment.steps, self.steps) {
+                    (Some(_), _) => format!("[[static.history.segment]] {} steps", k + 1),
+                    _ => "[static.history] steps".into(),
+                };
+                return Err(value(
+                    key,
+                    steps.to_string(),
+                    &format!("at most {MAX_HISTORY_STEPS} steps over the whole history"),
+                ));
+            }
+        }
         let (mut time, mut load) = (0.0, 0.0);
-        let mut samples = Vec::new();
+        let mut samples = Vec::with_capacity(total);
         for (k, segment) in self.segments.iter().enumerate() {
             let key = |name: &str| format!("[[static.history.segment]] {} {name}", k + 1);
             let duration = segment.duration.value();
-            if !(duration.is_finite() && duration > 0.0) {
-                return Err(value(
-                    key("duration"),
-                    format!("{duration} s"),
-                    "a time > 0",
-                ));
-            }
+            in_range(
+                &key("duration"),
+                duration,
+                SEGMENT_DURATION_RANGE,
+                false,
+                "s",
+            )?;
+            in_range(&key("load"), segment.load.value(), LOAD_RANGE, false, "N")?;
             let end = segment.load.value();
-            if !(end.is_finite() && end >= 0.0) {
-                return Err(value(key("load"), format!("{end} N"), "a force >= 0"));
-            }
             let steps = segment
                 .steps
                 .or(self.steps)
@@ -111,7 +142,18 @@ impl HistorySpec {
             }
             for j in 1..=steps {
                 let s = j as f64 / steps as f64;
-                samples.push((time + s * duration, load + s * (end - load)));
+                let t = time + s * duration;
+                // A step lost in the rounding of the time before it would be
+                // a zero time step deep in the run.
+                if samples.last().is_some_and(|&(before, _)| t <= before) {
+                    return Err(value(
+                        key("duration"),
+                        format!("{duration:e} s in {steps} steps after {time:e} s"),
+                        "steps long enough to advance the time (more than 1e-16 of the \
+                         time before them)",
+                    ));
+                }
+                samples.push((t, load + s * (end - load)));
             }
             time += duration;
             load = end;
@@ -172,17 +214,17 @@ pub fn run_load_history_scenario(
     else {
         return Err(ScenarioError::Invalid(format!(
             "scenario {}: no [static.history] section",
-            scenario.name
+            origin(scenario)
         )));
     };
     let Some(material) = material else {
-        return Err(elastic_refusal());
+        return Err(elastic_refusal(scenario));
     };
     if scenario.texture.is_some() || scenario.rolling.is_some() {
         return Err(ScenarioError::Invalid(format!(
             "scenario {}: [static.history] runs on an [[asperity]] list, not with a \
              [texture] or [rolling] section",
-            scenario.name
+            origin(scenario)
         )));
     }
     let samples = history.samples()?;
@@ -209,7 +251,7 @@ pub fn run_load_history_scenario(
     if steps.is_empty() {
         return Err(ScenarioError::Invalid(format!(
             "scenario {}: [static.history]: no step solved ({})",
-            scenario.name,
+            origin(scenario),
             failure.unwrap_or_default()
         )));
     }
@@ -221,10 +263,20 @@ pub fn run_load_history_scenario(
     })
 }
 
+/// Where the scenario came from (its file), to start an error as those of
+/// `Scenario::parse` do; its name when it has no origin.
+fn origin(scenario: &Scenario) -> &str {
+    if scenario.origin.is_empty() {
+        &scenario.name
+    } else {
+        &scenario.origin
+    }
+}
+
 /// The error for a `[static.history]` with an elastic tread.
-pub(crate) fn elastic_refusal() -> ScenarioError {
+pub(crate) fn elastic_refusal(scenario: &Scenario) -> ScenarioError {
     ScenarioError::Value {
-        key: "[material]".into(),
+        key: format!("{}: [material]", origin(scenario)),
         value: "an elastic tread".into(),
         expected: "a viscoelastic tread (Prony series): [static.history] needs one, \
                    an elastic tread's force does not depend on the loading history"

@@ -150,7 +150,7 @@ fn an_elastic_tread_and_bad_segments_are_refused_by_name() {
             .expect_err("elastic"),
     ] {
         assert!(
-            matches!(&error, ScenarioError::Value { key, .. } if key == "[material]"),
+            matches!(&error, ScenarioError::Value { key, .. } if key == "test: [material]"),
             "{error}"
         );
     }

@@ -41,8 +41,8 @@ pub use bem::{
 pub use check::check_name;
 pub use error::ScenarioError;
 pub use history::{
-    DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, SegmentSpec,
-    run_load_history_scenario, write_history_csv,
+    DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, MAX_HISTORY_STEPS,
+    SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario, write_history_csv,
 };
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
@@ -58,7 +58,8 @@ pub use texture::{CalibrationSummary, TextureLoad, TextureResult, TextureSummary
 pub use tyreroad_multipoint::Par;
 pub use tyreroad_rolling::{Progress, ProgressFn};
 pub use visco::{
-    BranchSpec, RelaxationTime, RelaxationTimeDim, ShiftSpec, Temperature, ViscoCase, ViscoSpec,
+    ACTIVATION_ENERGY_RANGE, BranchSpec, RELAXATION_TIME_RANGE, RelaxationTime, RelaxationTimeDim,
+    ShiftSpec, Temperature, ViscoCase, ViscoSpec, WLF_C1_RANGE, WLF_C2_RANGE,
 };
 
 /// How to run a scenario (nothing here changes the results).
@@ -113,10 +114,11 @@ impl Scenario {
     /// [`ScenarioError::Value`] for a value out of its range,
     /// [`ScenarioError::Invalid`] for inconsistent sections.
     pub fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
-        let scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
+        let mut scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             origin: origin.into(),
             message: e.to_string(),
         })?;
+        scenario.origin = origin.into();
         check::check(&scenario).map_err(|e| match e {
             ScenarioError::Value {
                 key,
@@ -244,7 +246,7 @@ impl Scenario {
             // An elastic `[material]` has no history: refused by name.
             let tread = self
                 .viscoelastic_material(&options.base_dir)?
-                .ok_or_else(history::elastic_refusal)?;
+                .ok_or_else(|| history::elastic_refusal(self))?;
             return run_load_history_scenario(self, Some(&tread)).map(ScenarioResult::History);
         }
         run_static(self).map(ScenarioResult::Static)

@@ -49,6 +49,11 @@ pub struct Scenario {
     /// `[model]`: which rung of the fidelity ladder runs.
     #[serde(default)]
     pub model: ModelSpec,
+    /// Where the scenario was read from (the `origin` of
+    /// [`Scenario::parse`]: a path or a label), which starts the run-time
+    /// errors of its viscoelastic tread; not a key of the file.
+    #[serde(skip)]
+    pub origin: String,
 }
 
 /// `[model]`: the model's fidelity (`crate::fidelity`).

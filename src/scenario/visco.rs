@@ -12,10 +12,11 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
-    Branch, MasterCurve, Prony, TemperatureShift, TrailingMemory, ViscoError, ViscoRollOptions,
-    ViscoStart, fit_prony, roll_viscoelastic,
+    Branch, MAX_PER_DECADE, MasterCurve, Prony, TemperatureShift, TrailingMemory, ViscoError,
+    ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic, significant,
 };
 
+use super::check::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
 use super::texture::{calibrated_texture_road_set, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
@@ -40,6 +41,18 @@ impl Dimension for RelaxationTimeDim {
 }
 /// A relaxation time (s).
 pub type RelaxationTime = Quantity<RelaxationTimeDim>;
+
+/// Range (s) of a relaxation time `τ_k` written in a scenario: a picosecond
+/// (faster than any rolling excitation) to about 30 000 years (slower than
+/// any test); outside it a value is a unit slip, not rubber.
+pub const RELAXATION_TIME_RANGE: [f64; 2] = [1e-12, 1e12];
+
+/// Range of the WLF constant `C1` (typical rubbers: 8 to 20).
+pub const WLF_C1_RANGE: [f64; 2] = [0.0, 1e3];
+/// Range (K) of the WLF constant `C2` (typical rubbers: 50 to 150 K).
+pub const WLF_C2_RANGE: [f64; 2] = [0.0, 1e4];
+/// Range (J/mol) of an Arrhenius activation energy (typical: 1e4 to 1e6).
+pub const ACTIVATION_ENERGY_RANGE: [f64; 2] = [0.0, 1e8];
 
 /// A temperature, held in kelvin: "20 °C", "20 degC", "293.15 K" or a bare
 /// number (K).
@@ -146,7 +159,8 @@ pub enum ShiftSpec {
     Wlf {
         /// `C1`.
         c1: f64,
-        /// `C2` (K).
+        /// `C2` (K), a temperature difference: a plain number or "101.6 K".
+        #[serde(deserialize_with = "temperature_difference")]
         c2: f64,
         /// `T_ref`.
         reference: Temperature,
@@ -160,11 +174,138 @@ pub enum ShiftSpec {
     },
 }
 
+/// `C2` of a WLF shift: a temperature difference in kelvin, written as a
+/// plain number or with its unit ("101.6 K"; a difference in °C is the same
+/// number, but "°C" reads as a temperature and is refused).
+fn temperature_difference<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    struct Visitor;
+    impl serde::de::Visitor<'_> for Visitor {
+        type Value = f64;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(
+                f,
+                "`c2`, a temperature difference: a plain number (K) or \"101.6 K\""
+            )
+        }
+        fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<f64, E> {
+            Ok(v)
+        }
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<f64, E> {
+            Ok(v as f64)
+        }
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<f64, E> {
+            Ok(v as f64)
+        }
+        fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<f64, E> {
+            v.trim()
+                .strip_suffix('K')
+                .and_then(|n| n.trim().parse().ok())
+                .ok_or_else(|| {
+                    E::custom(format!(
+                        "`c2` = \"{v}\": expected a temperature difference, a plain number \
+                         (K) or \"101.6 K\""
+                    ))
+                })
+        }
+    }
+    d.deserialize_any(Visitor)
+}
+
 fn visco_error(key: &str) -> impl Fn(ViscoError) -> ScenarioError + '_ {
     move |e| ScenarioError::Invalid(format!("[material.viscoelastic] {key}: {e}"))
 }
 
 impl ViscoSpec {
+    /// Every value against the range where it means something (called when
+    /// the scenario is read, so the error names the file and the key): the
+    /// moduli in [`MODULUS_RANGE`] as `[material] youngs_modulus`, the
+    /// relaxation times in [`RELAXATION_TIME_RANGE`], `per_decade` in
+    /// `1..=`[`MAX_PER_DECADE`], the shift's constants in their ranges and
+    /// the temperature where the shift is defined.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming the key, its value and the range.
+    pub(super) fn check(&self) -> Result<(), ScenarioError> {
+        const SECTION: &str = "[material.viscoelastic]";
+        if let Some(e) = self.long_term {
+            let key = format!("{SECTION} long_term");
+            in_range(&key, e.value(), MODULUS_RANGE, false, "Pa")?;
+        }
+        for (k, b) in self.branches.iter().enumerate() {
+            let key = |field: &str| format!("[[material.viscoelastic.branch]] #{} {field}", k + 1);
+            in_range(
+                &key("modulus"),
+                b.modulus.value(),
+                MODULUS_RANGE,
+                false,
+                "Pa",
+            )?;
+            let tau = b.relaxation_time.value();
+            in_range(
+                &key("relaxation_time"),
+                tau,
+                RELAXATION_TIME_RANGE,
+                false,
+                "s",
+            )?;
+        }
+        if let Some(n) = self.per_decade
+            && !(1..=MAX_PER_DECADE).contains(&n)
+        {
+            return Err(ScenarioError::Value {
+                key: format!("{SECTION} per_decade"),
+                value: n.to_string(),
+                expected: format!(
+                    "1 to {MAX_PER_DECADE} (a Prony fit with more than a few relaxation times \
+                     per decade is ill-conditioned)"
+                ),
+            });
+        }
+        match self.shift {
+            Some(ShiftSpec::Wlf { c1, c2, .. }) => {
+                in_range(&format!("{SECTION}.shift c1"), c1, WLF_C1_RANGE, true, "")?;
+                in_range(&format!("{SECTION}.shift c2"), c2, WLF_C2_RANGE, true, "K")?;
+            }
+            Some(ShiftSpec::Arrhenius {
+                activation_energy, ..
+            }) => in_range(
+                &format!("{SECTION}.shift activation_energy"),
+                activation_energy,
+                ACTIVATION_ENERGY_RANGE,
+                true,
+                "J/mol",
+            )?,
+            None => {}
+        }
+        if let Some(t) = self.temperature {
+            let key = format!("{SECTION} temperature");
+            let kelvin = format!("{} K", significant(t.0));
+            let Some(shift) = self.shift() else {
+                return Err(ScenarioError::Value {
+                    key,
+                    value: kelvin,
+                    expected: "a [material.viscoelastic.shift] to move the series to it".into(),
+                });
+            };
+            if shift.factor(t.0).is_err() {
+                let expected = match shift {
+                    TemperatureShift::Wlf { c2, reference, .. } => format!(
+                        "a temperature above the WLF pole T_ref − C2 = {} K ({} °C)",
+                        significant(reference - c2),
+                        significant(reference - c2 - 273.15)
+                    ),
+                    _ => "a temperature where the Arrhenius shift factor is finite and > 0".into(),
+                };
+                return Err(ScenarioError::Value {
+                    key,
+                    value: kelvin,
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The Prony series at the reference temperature.
     ///
     /// # Errors
@@ -273,6 +414,40 @@ pub struct ViscoCase {
     pub temperature: Option<f64>,
 }
 
+impl ViscoCase {
+    /// Range (m/s) of `[rolling] speed`, which a command-line sweep keeps
+    /// to. A case of the library may go beyond it (1e-6 or 1e6 m/s are the
+    /// relaxed and glassy limits the tests roll at), not below zero.
+    pub const SPEED_RANGE: [f64; 2] = SPEED_RANGE;
+
+    /// The case's speed finite and > 0 and its temperature finite and above
+    /// absolute zero.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming the case's speed or temperature.
+    pub fn check(&self) -> Result<(), ScenarioError> {
+        if let Some(v) = self.speed
+            && !(v.is_finite() && v > 0.0)
+        {
+            return Err(ScenarioError::Value {
+                key: "sweep speed".into(),
+                value: format!("{} m/s", significant(v)),
+                expected: "a finite speed > 0".into(),
+            });
+        }
+        if let Some(t) = self.temperature
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(ScenarioError::Value {
+                key: "sweep temperature".into(),
+                value: format!("{} K", significant(t)),
+                expected: "a temperature above absolute zero".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 impl Scenario {
     /// The tread's Prony series at its temperature, when `[material]` has a
     /// `[material.viscoelastic]` section.
@@ -283,8 +458,35 @@ impl Scenario {
         let Some(spec) = &self.material.viscoelastic else {
             return Ok(None);
         };
-        let series = spec.series(self.material.poisson_ratio, base_dir)?;
-        spec.at(&series, None).map(Some)
+        let series = spec
+            .series(self.material.poisson_ratio, base_dir)
+            .map_err(|e| self.located(e))?;
+        spec.at(&series, None)
+            .map(Some)
+            .map_err(|e| self.located(e))
+    }
+
+    /// `error` starting with the scenario's origin (its file), as the errors
+    /// of [`Scenario::parse`] do.
+    fn located(&self, error: ScenarioError) -> ScenarioError {
+        if self.origin.is_empty() {
+            return error;
+        }
+        match error {
+            ScenarioError::Value {
+                key,
+                value,
+                expected,
+            } => ScenarioError::Value {
+                key: format!("{}: {key}", self.origin),
+                value,
+                expected,
+            },
+            ScenarioError::Invalid(what) => {
+                ScenarioError::Invalid(format!("scenario {}: {what}", self.origin))
+            }
+            other => other,
+        }
     }
 
     /// Viscoelastic rolling runs of the `[rolling]` section on the
@@ -302,9 +504,13 @@ impl Scenario {
     ) -> Result<Vec<Result<RollingRun, ScenarioError>>, ScenarioError> {
         let spec = self.rolling_section()?;
         let visco = self.material.viscoelastic.as_ref().ok_or_else(|| {
-            ScenarioError::Invalid("the scenario's [material] has no viscoelastic section".into())
+            self.located(ScenarioError::Invalid(
+                "the scenario's [material] has no viscoelastic section".into(),
+            ))
         })?;
-        let series = visco.series(self.material.poisson_ratio, &options.base_dir)?;
+        let series = visco
+            .series(self.material.poisson_ratio, &options.base_dir)
+            .map_err(|e| self.located(e))?;
         let material = self.material()?;
         let sweep = Sweep {
             scenario: self,
@@ -383,7 +589,10 @@ impl Sweep<'_> {
     ) -> Vec<Result<RollingRun, ScenarioError>> {
         self.cases
             .iter()
-            .map(|case| self.one(road, summary.clone(), case))
+            .map(|case| {
+                self.one(road, summary.clone(), case)
+                    .map_err(|e| self.scenario.located(e))
+            })
             .collect()
     }
 
@@ -393,6 +602,7 @@ impl Sweep<'_> {
         summary: RoadSummary,
         case: &ViscoCase,
     ) -> Result<RollingRun, ScenarioError> {
+        case.check()?;
         let spec = self.scenario.rolling_section()?;
         let mut config = self.scenario.rolling_config()?;
         if let Some(speed) = case.speed {

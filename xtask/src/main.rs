@@ -18,7 +18,7 @@
 //!   failed and recovered by clusters;
 //! - `sweep SWEEP.toml [--mpi]`: a parameter sweep, one table row per run;
 //!   `mpi-run SCENARIO.toml` (feature `mpi`): a rolling run over MPI ranks.
-//! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
+//! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0degC,20degC,40degC]`:
 //!   viscoelastic rolling runs against speed and temperature, a table and
 //!   charts of the overall and band levels.
 

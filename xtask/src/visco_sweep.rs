@@ -1,4 +1,4 @@
-//! `cargo xtask visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0,20,40]`:
+//! `cargo xtask visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0degC,20degC,40degC]`:
 //! viscoelastic rolling runs of a scenario with `[material.viscoelastic]`
 //! (docs/viscoelastic.md, "Rolling"), one per speed (at the scenario's
 //! temperature) and one per temperature (at the scenario's speed), on one
@@ -14,6 +14,7 @@ use clap::Args;
 use tyreroad::scenario::output::OutputSet;
 use tyreroad::scenario::{RollingRun, RunOptions, Scenario, Temperature, ViscoCase};
 use tyreroad::shared::spectrum::BandLevel;
+use tyreroad::viscoelastic::significant;
 
 use crate::charts::{Series, line_chart};
 
@@ -26,12 +27,13 @@ pub struct ViscoSweepArgs {
     /// `--speed-count`).
     #[arg(long, default_value = "30..130")]
     pub speeds: String,
-    /// Points of a speed range.
+    /// Points of a speed range (2 to 1000).
     #[arg(long, default_value_t = 6)]
     pub speed_count: usize,
-    /// Tread temperatures, a list: `0,20,40` (°C unless a unit is given:
-    /// `293.15 K`). Needs `[material.viscoelastic.shift]`. None: no
-    /// temperature sweep.
+    /// Tread temperatures, a list with units: `"0 °C,20 °C,40 °C"`,
+    /// `0degC,20degC` or `273.15K,293.15K` (a bare number is refused: it
+    /// means kelvin in a scenario file). Needs
+    /// `[material.viscoelastic.shift]`. None: no temperature sweep.
     #[arg(long)]
     pub temperatures: Option<String>,
     /// Output directory.
@@ -39,8 +41,13 @@ pub struct ViscoSweepArgs {
     pub out: PathBuf,
 }
 
-/// The speeds (m/s) of `--speeds`.
+/// Most runs of one sweep (speeds, and temperatures): each is a whole
+/// rolling run, so a thousand is already hours; more is a typing slip.
+const MAX_SWEEP_POINTS: usize = 1000;
+
+/// The speeds (m/s) of `--speeds`, each in the range of `[rolling] speed`.
 fn speeds(text: &str, count: usize) -> Result<Vec<f64>> {
+    let [lo, hi] = ViscoCase::SPEED_RANGE;
     let kmh = |s: &str| -> Result<f64> {
         let v: f64 = s
             .trim()
@@ -48,36 +55,52 @@ fn speeds(text: &str, count: usize) -> Result<Vec<f64>> {
             .trim()
             .parse()
             .with_context(|| format!("--speeds: `{s}` is not a speed in km/h"))?;
-        if !(v.is_finite() && v > 0.0) {
-            bail!("--speeds: {v} km/h is not a positive speed");
+        if !(v.is_finite() && (lo * 3.6..=hi * 3.6).contains(&v)) {
+            bail!(
+                "--speeds: {} km/h is outside the range of [rolling] speed ({} to {} km/h)",
+                significant(v),
+                significant(lo * 3.6),
+                significant(hi * 3.6)
+            );
         }
         Ok(v / 3.6)
     };
     let list = if let Some((a, b)) = text.split_once("..") {
         let (a, b) = (kmh(a)?, kmh(b)?);
-        if count < 2 || b <= a {
-            bail!("--speeds {text}: a range needs its end above its start and --speed-count ≥ 2");
+        if !(2..=MAX_SWEEP_POINTS).contains(&count) || b <= a {
+            bail!(
+                "--speeds {text} with --speed-count {count}: a range needs its end above its \
+                 start and --speed-count from 2 to {MAX_SWEEP_POINTS}"
+            );
         }
         (0..count)
             .map(|j| a + (b - a) * j as f64 / (count - 1) as f64)
             .collect()
     } else {
+        let count = text.split(',').count();
+        if count > MAX_SWEEP_POINTS {
+            bail!("--speeds: {count} speeds, at most {MAX_SWEEP_POINTS}");
+        }
         text.split(',').map(kmh).collect::<Result<Vec<_>>>()?
     };
     Ok(list)
 }
 
-/// The temperatures (K) of `--temperatures`: bare numbers are °C.
+/// The temperatures (K) of `--temperatures`, each with its unit: a bare
+/// number means kelvin in a scenario file and would read as °C to most
+/// users here, so it is refused rather than guessed.
 fn temperatures(text: &str) -> Result<Vec<f64>> {
+    let count = text.split(',').count();
+    if count > MAX_SWEEP_POINTS {
+        bail!("--temperatures: {count} temperatures, at most {MAX_SWEEP_POINTS}");
+    }
     text.split(',')
         .map(|t| {
             let t = t.trim();
-            let with_unit = if t.parse::<f64>().is_ok() {
-                format!("{t} °C")
-            } else {
-                t.to_string()
-            };
-            Temperature::parse(&with_unit)
+            if t.parse::<f64>().is_ok() {
+                bail!("--temperatures: `{t}` has no unit: write \"{t} °C\" ({t}degC) or \"{t} K\"");
+            }
+            Temperature::parse(t)
                 .map(|t| t.0)
                 .map_err(|e| anyhow::anyhow!("--temperatures: {e}"))
         })
@@ -153,11 +176,7 @@ pub fn run(args: &ViscoSweepArgs) -> Result<()> {
     for ((sweep, case), run) in cases.iter().zip(runs) {
         match run {
             Ok(run) => rows.push(row(sweep, &run, case.temperature)),
-            Err(e) => eprintln!(
-                "{sweep} run at {:?} km/h, {:?} K failed: {e}",
-                case.speed.map(|v| v * 3.6),
-                case.temperature
-            ),
+            Err(e) => eprintln!("{sweep} run at {} failed: {e}", case_label(case)),
         }
     }
     if rows.is_empty() {
@@ -177,6 +196,26 @@ pub fn run(args: &ViscoSweepArgs) -> Result<()> {
     let written = set.commit()?;
     println!("wrote {} files in {}", written.len(), args.out.display());
     Ok(())
+}
+
+/// "50 km/h", "20 °C (293.15 K)" or both: the values a case replaces.
+fn case_label(case: &ViscoCase) -> String {
+    let mut parts = Vec::new();
+    if let Some(v) = case.speed {
+        parts.push(format!("{} km/h", significant(v * 3.6)));
+    }
+    if let Some(t) = case.temperature {
+        parts.push(format!(
+            "{} °C ({} K)",
+            significant(t - 273.15),
+            significant(t)
+        ));
+    }
+    if parts.is_empty() {
+        "the scenario's speed and temperature".into()
+    } else {
+        parts.join(", ")
+    }
 }
 
 fn signal_names(scenario: &Scenario) -> Vec<String> {
@@ -304,4 +343,66 @@ fn charts(set: &mut OutputSet, rows: &[Row], names: &[String], sweep: &str) -> R
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_runaway_speed_count_is_refused_before_allocating() {
+        for count in [1, MAX_SWEEP_POINTS + 1, 100_000_000] {
+            let err = speeds("30..130", count).expect_err("refused").to_string();
+            assert!(err.contains("--speed-count"), "{count}: {err}");
+        }
+        assert_eq!(
+            speeds("30..130", MAX_SWEEP_POINTS).expect("cap").len(),
+            1000
+        );
+        let many = vec!["50"; MAX_SWEEP_POINTS + 1].join(",");
+        assert!(speeds(&many, 6).is_err());
+        let many = vec!["20 °C"; MAX_SWEEP_POINTS + 1].join(",");
+        assert!(temperatures(&many).is_err());
+    }
+
+    #[test]
+    fn speeds_outside_the_rolling_speed_range_are_refused() {
+        for text in ["1e30", "30..1e30", "0", "-5", "0.001", "NaN", "inf"] {
+            let err = speeds(text, 6).expect_err(text).to_string();
+            assert!(
+                err.contains("km/h") && err.contains("--speeds"),
+                "{text}: {err}"
+            );
+        }
+        let ok = speeds("30,50km/h,1800", 6).expect("in range");
+        assert!((ok[2] - 500.0).abs() < 1e-9, "{ok:?}");
+    }
+
+    #[test]
+    fn temperatures_need_their_unit() {
+        let err = temperatures("25").expect_err("bare").to_string();
+        assert!(
+            err.contains("`25` has no unit") && err.contains("°C"),
+            "{err}"
+        );
+        let kelvin = temperatures("25 °C, 298.15 K,25degC").expect("units");
+        for t in kelvin {
+            assert!((t - 298.15).abs() < 1e-9, "{t}");
+        }
+    }
+
+    #[test]
+    fn failed_cases_are_labelled_without_debug_output() {
+        let case = ViscoCase {
+            speed: None,
+            temperature: Some(191.55 + 1e-13),
+        };
+        let label = case_label(&case);
+        assert_eq!(label, "-81.6 °C (191.55 K)");
+        let case = ViscoCase {
+            speed: Some(50.0 / 3.6),
+            temperature: None,
+        };
+        assert_eq!(case_label(&case), "50 km/h");
+    }
 }

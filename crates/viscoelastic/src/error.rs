@@ -6,7 +6,7 @@
 #[non_exhaustive]
 pub enum ViscoError {
     /// A scalar input is not finite or out of its range.
-    #[error("invalid {name}: {value} (expected {expected})")]
+    #[error("invalid {name}: {} (expected {expected})", significant(*value))]
     InvalidValue {
         /// Which quantity.
         name: &'static str,
@@ -44,6 +44,55 @@ pub enum ViscoError {
         found: usize,
         /// Points needed.
         needed: usize,
+    },
+    /// A master curve measured at fewer distinct frequencies than a fit
+    /// needs (repeated frequencies count once).
+    #[error("master curve has {found} distinct frequencies, at least {needed} are needed")]
+    TooFewFrequencies {
+        /// Distinct frequencies read.
+        found: usize,
+        /// Distinct frequencies needed.
+        needed: usize,
+    },
+    /// Two rows of a master-curve CSV give the same frequency with
+    /// different moduli.
+    #[error(
+        "master curve lines {first_line} and {line}: the frequency {} Hz is given twice with different moduli",
+        significant(*frequency)
+    )]
+    ConflictingFrequency {
+        /// 1-based line of the first row.
+        first_line: usize,
+        /// 1-based line of the second row.
+        line: usize,
+        /// The repeated frequency (Hz).
+        frequency: f64,
+    },
+    /// A fit would need more relaxation times than [`crate::MAX_RELAXATION_TIMES`]:
+    /// `per_decade` times the decades the curve spans (plus one at each end).
+    #[error(
+        "per_decade = {per_decade} over the {} decades of relaxation time the master curve spans \
+         ({} to {} Hz, half a decade added at each end) asks for {} relaxation times: at most {max} \
+         (lower per_decade or narrow the curve)",
+        significant(*decades),
+        significant(*lowest),
+        significant(*highest),
+        significant(*count)
+    )]
+    TooManyRelaxationTimes {
+        /// Relaxation times per decade asked.
+        per_decade: usize,
+        /// Decades of relaxation time spanned.
+        decades: f64,
+        /// Lowest frequency of the curve (Hz).
+        lowest: f64,
+        /// Highest frequency of the curve (Hz).
+        highest: f64,
+        /// Relaxation times the grid would hold (a float: it may exceed any
+        /// integer).
+        count: f64,
+        /// The cap.
+        max: usize,
     },
     /// The non-negative least-squares fit did not terminate.
     #[error("non-negative least squares did not converge in {iterations} iterations")]
@@ -94,6 +143,33 @@ pub enum ViscoError {
     },
 }
 
+/// `x` with six significant digits and no float noise (`183.15`, not
+/// `183.14999999999998`), in scientific notation outside `[1e-3, 1e6)`.
+pub fn significant(x: f64) -> String {
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let magnitude = x.abs();
+    if (1e-3..1e6).contains(&magnitude) {
+        let decimals = (5 - magnitude.log10().floor() as i32).max(0) as usize;
+        let text = format!("{x:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        }
+    } else {
+        let text = format!("{x:.5e}");
+        match text.split_once('e') {
+            Some((mantissa, exponent)) if mantissa.contains('.') => format!(
+                "{}e{exponent}",
+                mantissa.trim_end_matches('0').trim_end_matches('.')
+            ),
+            _ => text,
+        }
+    }
+}
+
 pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, ViscoError> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
@@ -115,5 +191,23 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, ViscoE
             value,
             expected: "finite and >= 0",
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    #[test]
+    fn messages_print_six_significant_digits_without_float_noise() {
+        assert_eq!(significant(183.14999999999998), "183.15");
+        assert_eq!(significant(293.15), "293.15");
+        assert_eq!(significant(4e6), "4e6");
+        assert_eq!(significant(-1.5e-7), "-1.5e-7");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(f64::NAN), "NaN");
+        assert_eq!(significant(1e300), "1e300");
+        assert_eq!(significant(12.0), "12");
+        assert_eq!(significant(0.0123456789), "0.0123457");
     }
 }

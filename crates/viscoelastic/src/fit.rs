@@ -39,15 +39,20 @@ impl MasterCurve {
         }
     }
 
-    /// Reads a master curve from CSV text as a DMA machine exports it: three
-    /// columns `frequency (Hz), E' (Pa), E'' (Pa)` separated by commas,
+    /// Reads a master curve from CSV text as a DMA machine exports it: exactly
+    /// three columns `frequency (Hz), E' (Pa), E'' (Pa)` separated by commas,
     /// semicolons or tabs. Blank lines and lines starting with `#` are
     /// skipped; a first row whose first field is not a number is a header.
+    /// A row repeating an earlier frequency with the same moduli is read once.
     ///
     /// # Errors
-    /// [`ViscoError::Csv`] naming the line, column and field of a missing or
-    /// unreadable value, a non-positive frequency or storage modulus or a
-    /// negative loss modulus; [`ViscoError::TooFewPoints`] under 2 rows.
+    /// [`ViscoError::Csv`] naming the line, column and field of a missing,
+    /// extra or unreadable value (a fourth column is refused: a file laid out
+    /// `f, |E*|, E', E''` would otherwise be misread), a non-positive
+    /// frequency or storage modulus or a negative loss modulus;
+    /// [`ViscoError::ConflictingFrequency`] naming both lines of a frequency
+    /// given twice with different moduli; [`ViscoError::TooFewFrequencies`]
+    /// under 2 distinct frequencies.
     pub fn parse_csv(text: &str) -> Result<Self, ViscoError> {
         const FIELDS: [&str; 3] = [
             "frequency (Hz)",
@@ -60,6 +65,8 @@ impl MasterCurve {
             loss: Vec::new(),
         };
         let mut seen_row = false;
+        // The line of each row kept, to name both lines of a conflict.
+        let mut lines: Vec<usize> = Vec::new();
         for (index, raw) in text.lines().enumerate() {
             let line = index + 1;
             let trimmed = raw.trim();
@@ -71,6 +78,17 @@ impl MasterCurve {
             seen_row = true;
             if first_row && fields[0].parse::<f64>().is_err() {
                 continue;
+            }
+            if fields.len() > FIELDS.len() {
+                return Err(ViscoError::Csv {
+                    line,
+                    column: FIELDS.len() + 1,
+                    field: "an extra column",
+                    message: format!(
+                        "{} columns found, 3 expected: frequency (Hz), E' (Pa), E'' (Pa)",
+                        fields.len()
+                    ),
+                });
             }
             let mut values = [0.0; 3];
             for (column, (value, field)) in values.iter_mut().zip(FIELDS).enumerate() {
@@ -109,12 +127,24 @@ impl MasterCurve {
                 }
                 *value = parsed;
             }
+            let earlier = curve.frequency.iter().position(|&f| f == values[0]);
+            if let Some(k) = earlier {
+                if curve.storage[k] != values[1] || curve.loss[k] != values[2] {
+                    return Err(ViscoError::ConflictingFrequency {
+                        first_line: lines[k],
+                        line,
+                        frequency: values[0],
+                    });
+                }
+                continue;
+            }
             curve.frequency.push(values[0]);
             curve.storage.push(values[1]);
             curve.loss.push(values[2]);
+            lines.push(line);
         }
         if curve.frequency.len() < 2 {
-            return Err(ViscoError::TooFewPoints {
+            return Err(ViscoError::TooFewFrequencies {
                 found: curve.frequency.len(),
                 needed: 2,
             });
@@ -147,9 +177,30 @@ impl MasterCurve {
             positive("master-curve storage modulus (Pa)", self.storage[i])?;
             crate::error::non_negative("master-curve loss modulus (Pa)", self.loss[i])?;
         }
+        // One frequency repeated spans no decade: the grid of relaxation
+        // times would be empty.
+        let first = self.frequency[0];
+        if self.frequency.iter().all(|&f| f == first) {
+            return Err(ViscoError::TooFewFrequencies {
+                found: 1,
+                needed: 2,
+            });
+        }
         Ok(())
     }
 }
+
+/// Most relaxation times per decade of a fit. A Prony fit with more than a
+/// few terms per decade is ill-conditioned: neighbouring branches have
+/// nearly the same response and the least-squares moduli only trade off
+/// between them, so more buy nothing but time (the fit's cost grows as the
+/// cube of the number of times).
+pub const MAX_PER_DECADE: usize = 20;
+
+/// Most relaxation times of a fit in all (`per_decade` times the decades
+/// spanned, plus one): 20 decades at the largest `per_decade`, already
+/// wider than any measured master curve.
+pub const MAX_RELAXATION_TIMES: usize = 200;
 
 /// Fits a Prony series to `curve` with `per_decade` relaxation times per
 /// decade of frequency (2 is usual: more do not improve a smooth curve and
@@ -157,18 +208,20 @@ impl MasterCurve {
 ///
 /// # Errors
 /// As [`fit_prony_with_times`]; [`ViscoError::InvalidValue`] for
-/// `per_decade == 0`.
+/// `per_decade` outside `1..=`[`MAX_PER_DECADE`];
+/// [`ViscoError::TooManyRelaxationTimes`] when the grid would hold more than
+/// [`MAX_RELAXATION_TIMES`].
 pub fn fit_prony(
     curve: &MasterCurve,
     per_decade: usize,
     poisson_ratio: f64,
 ) -> Result<Prony, ViscoError> {
     curve.check()?;
-    if per_decade == 0 {
+    if !(1..=MAX_PER_DECADE).contains(&per_decade) {
         return Err(ViscoError::InvalidValue {
-            name: "relaxation times per decade",
-            value: 0.0,
-            expected: ">= 1",
+            name: "relaxation times per decade (per_decade)",
+            value: per_decade as f64,
+            expected: "1 to 20: more make the Prony fit ill-conditioned",
         });
     }
     let (lo, hi) = curve
@@ -177,10 +230,26 @@ pub fn fit_prony(
         .fold((f64::INFINITY, 0.0f64), |(lo, hi), &f| {
             (lo.min(f), hi.max(f))
         });
+    // The cap is checked in logarithms: the ratio of the extreme times of a
+    // curve spanning 1e-300 to 1e300 Hz overflows, its decades do not.
+    let span = (hi.log10() - lo.log10()) + 1.0;
+    let wanted = (span * per_decade as f64).ceil().max(1.0) + 1.0;
+    if !(wanted <= MAX_RELAXATION_TIMES as f64) {
+        return Err(ViscoError::TooManyRelaxationTimes {
+            per_decade,
+            decades: span,
+            lowest: lo,
+            highest: hi,
+            count: wanted,
+            max: MAX_RELAXATION_TIMES,
+        });
+    }
     let tau_min = 1.0 / (2.0 * PI * hi) / 10f64.sqrt();
     let tau_max = 1.0 / (2.0 * PI * lo) * 10f64.sqrt();
     let decades = (tau_max / tau_min).log10();
-    let count = ((decades * per_decade as f64).ceil() as usize).max(1) + 1;
+    // Within the cap `decades` is finite and at most ~200, so the count
+    // cannot overflow; a time that underflows is refused by the fit below.
+    let count = ((decades * per_decade as f64).ceil() as usize).clamp(1, MAX_RELAXATION_TIMES) + 1;
     let times: Vec<f64> = (0..count)
         .map(|j| tau_min * 10f64.powf(decades * j as f64 / (count - 1) as f64))
         .collect();
@@ -444,7 +513,104 @@ mod tests {
         let few = MasterCurve::parse_csv("f,E1,E2\n1,2e6,1e5\n");
         assert!(matches!(
             few,
-            Err(ViscoError::TooFewPoints { found: 1, .. })
+            Err(ViscoError::TooFewFrequencies { found: 1, .. })
+        ));
+    }
+
+    /// The adversarial curve of 1e-300 to 1e300 Hz once overflowed the
+    /// count of relaxation times (a panic); it spans 601 decades.
+    #[test]
+    fn a_curve_spanning_hundreds_of_decades_is_refused_by_the_cap() {
+        let curve =
+            MasterCurve::parse_csv("f,E1,E2\n1e-300,4e6,1e5\n1e300,5e6,1e5\n").expect("reads");
+        let err = fit_prony(&curve, 3, 0.5).expect_err("over the cap");
+        assert!(
+            matches!(
+                err,
+                ViscoError::TooManyRelaxationTimes {
+                    per_decade: 3,
+                    max: MAX_RELAXATION_TIMES,
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
+        let message = err.to_string();
+        assert!(
+            message.contains("per_decade = 3") && message.contains("601 decades"),
+            "{message}"
+        );
+        // Just inside the cap: 65 decades at 3 per decade (197 times) fits.
+        let wide = MasterCurve::of(&known(), &[1e-30, 1e-10, 1e10, 1e34]);
+        assert!(fit_prony(&wide, 3, 0.5).is_ok());
+        assert!(matches!(
+            fit_prony(&wide, 4, 0.5),
+            Err(ViscoError::TooManyRelaxationTimes { .. })
+        ));
+    }
+
+    #[test]
+    fn per_decade_above_twenty_is_refused_before_any_allocation() {
+        let curve = MasterCurve::of(&known(), &log_frequencies(0.1, 1e3, 9));
+        for per_decade in [0, MAX_PER_DECADE + 1, 10_000, 1_000_000, usize::MAX] {
+            let err = fit_prony(&curve, per_decade, 0.5).expect_err("refused");
+            assert!(
+                err.to_string().contains("per_decade"),
+                "{per_decade}: {err}"
+            );
+        }
+        assert!(fit_prony(&curve, MAX_PER_DECADE, 0.5).is_ok());
+    }
+
+    #[test]
+    fn a_fourth_column_is_refused_not_ignored() {
+        let err = MasterCurve::parse_csv("f,E,E1,E2\n1,2e6,2e6,1e5\n10,3e6,3e6,4e5\n")
+            .expect_err("four columns");
+        assert!(
+            matches!(&err, ViscoError::Csv { line: 2, column: 4, message, .. } if message.contains("4 columns")),
+            "{err:?}"
+        );
+    }
+
+    #[test]
+    fn a_frequency_given_twice_with_other_moduli_names_both_lines() {
+        let err = MasterCurve::parse_csv("# export\n1,2e6,1e5\n10,3e6,4e5\n1,2.5e6,1e5\n")
+            .expect_err("conflict");
+        assert_eq!(
+            err,
+            ViscoError::ConflictingFrequency {
+                first_line: 2,
+                line: 4,
+                frequency: 1.0
+            }
+        );
+        assert!(err.to_string().contains("lines 2 and 4"), "{err}");
+        // The same row twice is read once.
+        let curve = MasterCurve::parse_csv("1,2e6,1e5\n10,3e6,4e5\n1,2e6,1e5\n").expect("reads");
+        assert_eq!(curve.frequency, vec![1.0, 10.0]);
+    }
+
+    #[test]
+    fn one_distinct_frequency_is_too_few_to_fit() {
+        let err = MasterCurve::parse_csv("5,2e6,1e5\n5,2e6,1e5\n").expect_err("one frequency");
+        assert!(
+            matches!(
+                err,
+                ViscoError::TooFewFrequencies {
+                    found: 1,
+                    needed: 2
+                }
+            ),
+            "{err:?}"
+        );
+        let curve = MasterCurve {
+            frequency: vec![5.0, 5.0],
+            storage: vec![2e6, 3e6],
+            loss: vec![1e5, 1e5],
+        };
+        assert!(matches!(
+            fit_prony(&curve, 3, 0.5),
+            Err(ViscoError::TooFewFrequencies { .. })
         ));
     }
 }

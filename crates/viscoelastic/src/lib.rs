@@ -67,8 +67,8 @@ mod sphere;
 pub use bem::{ViscoBem, ViscoBemStep};
 pub use bem_rolling::{StepHistory, TreadMemory};
 pub use compare::{Comparison, SphereField, compare_on_spheres};
-pub use error::ViscoError;
-pub use fit::{MasterCurve, fit_prony, fit_prony_with_times};
+pub use error::{ViscoError, significant};
+pub use fit::{MAX_PER_DECADE, MAX_RELAXATION_TIMES, MasterCurve, fit_prony, fit_prony_with_times};
 pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
 pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
 pub use rolling::{
