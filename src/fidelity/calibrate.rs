@@ -221,7 +221,10 @@ impl CalibratedTable {
             (n - 1, 0.0)
         } else {
             let k = self.depth.partition_point(|&v| v <= depth) - 1;
-            (k, (depth - self.depth[k]) / (self.depth[k + 1] - self.depth[k]))
+            (
+                k,
+                (depth - self.depth[k]) / (self.depth[k + 1] - self.depth[k]),
+            )
         };
         field.unit_field(k, t, origin)
     }
@@ -617,13 +620,8 @@ impl Calibrator {
                 t
             }
             None => {
-                let t = calibrate_table(
-                    patch,
-                    max_depth,
-                    &self.material,
-                    &self.options,
-                    self.fields,
-                )?;
+                let t =
+                    calibrate_table(patch, max_depth, &self.material, &self.options, self.fields)?;
                 self.count(|c| c.solved += 1);
                 if let Some(f) = &file {
                     write_table(f, &t)?;

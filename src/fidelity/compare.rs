@@ -315,9 +315,7 @@ fn run_rung<L: ContactLaw + Sync>(
             let t = Instant::now();
             let s = match solve_load {
                 Some(f) => f(Control::Load(b.load))?,
-                None => {
-                    solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?
-                }
+                None => solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?,
             };
             let seconds = t.elapsed().as_secs_f64();
             let two = shapes

@@ -81,11 +81,7 @@ impl FieldCouplingOptions {
             ));
         }
         if self.max_rounds == 0 {
-            return Err(FidelityError::invalid(
-                "field coupling rounds",
-                0,
-                ">= 1",
-            ));
+            return Err(FidelityError::invalid("field coupling rounds", 0, ">= 1"));
         }
         Ok(())
     }
@@ -160,7 +156,8 @@ pub fn field_correction(
             let (fi, ci, ri, bi) = &fields[i];
             let mut row = Vec::new();
             for (j, (fj, cj, rj, bj)) in fields.iter().enumerate().skip(i + 1) {
-                let r = (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
+                let r =
+                    (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
                 if r == 0.0 {
                     // Coincident summits have no point coupling to correct.
                     continue;
@@ -181,7 +178,8 @@ pub fn field_correction(
     let pairs: Vec<_> = rows.into_iter().flatten().collect();
     let field_pairs = pairs.iter().filter(|p| p.3).count();
     let centroid_pairs = pairs.len() - field_pairs;
-    let correction = PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
+    let correction =
+        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
     Ok(FieldCorrection {
         correction,
         field_pairs,

@@ -72,13 +72,7 @@ impl BinnedField {
 
     /// Appends a knot from a pressure field (Pa) on the patch's `nx × ny`
     /// cells of `dx × dy` (row-major); an empty knot (no force) for `None`.
-    pub(crate) fn push_knot(
-        &mut self,
-        pressure: Option<&[f64]>,
-        nx: usize,
-        dx: f64,
-        dy: f64,
-    ) {
+    pub(crate) fn push_knot(&mut self, pressure: Option<&[f64]>, nx: usize, dx: f64, dy: f64) {
         let mut bins: Vec<Bin> = Vec::new();
         if let Some(pressure) = pressure {
             let per_row = ((nx as f64 * dx) / self.bin).ceil() as usize + 1;
@@ -234,7 +228,12 @@ mod tests {
         let r = 20e-3;
         let g = field_compliance(&f1, &f2, 1e-5);
         let exact = (1.0 + 2.0 * a * a / (8.0 * r * r)) / r;
-        assert!((g * r - exact * r).abs() < 2e-4, "{} vs {}", g * r, exact * r);
+        assert!(
+            (g * r - exact * r).abs() < 2e-4,
+            "{} vs {}",
+            g * r,
+            exact * r
+        );
         assert!(f1.len() <= MAX_BINS_PER_SIDE * MAX_BINS_PER_SIDE);
         let w: f64 = f1.iter().map(|p| p.1).sum();
         assert!((w - 1.0).abs() < 1e-12);

@@ -99,9 +99,7 @@ pub enum FidelityError {
     #[error("rolling run: {0}")]
     Rolling(#[from] crate::rolling::RollingError),
     /// The field coupling's fixed point did not settle.
-    #[error(
-        "field coupling: forces still moving by {change:e} of the load after {rounds} rounds"
-    )]
+    #[error("field coupling: forces still moving by {change:e} of the load after {rounds} rounds")]
     FieldCoupling {
         /// Rounds run.
         rounds: usize,
@@ -142,8 +140,8 @@ pub const RUNGS: [Fidelity; 5] = [
     Fidelity::Wilke,
     Fidelity::Calibrated,
     Fidelity::Distributed,
-    Fidelity::CalibratedFields,
     Fidelity::Clustered,
+    Fidelity::CalibratedFields,
 ];
 
 /// Where a rung's laws come from.

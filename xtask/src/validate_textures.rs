@@ -179,7 +179,10 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         }
         // Each road's rows as soon as they exist: a long run that is cut
         // short still leaves its finished roads on the terminal.
-        print!("{}", tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?);
+        print!(
+            "{}",
+            tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?
+        );
         if args.segmentation {
             let rows = segmentation_rows(label, &map, material, &options)?;
             print!("{rows}");
