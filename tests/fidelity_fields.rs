@@ -3,6 +3,8 @@
 //! the project's full BEM on three parallel ridges whose summits sit at
 //! alternate ends: the point kernel couples the summits ~19 mm apart, the
 //! ridges' contacts are strips 6 mm apart along their whole length.
+//! (About 1.5 min in the test profile on the loaded 2-core machine: the
+//! BEM on 240 × 240 cells at two loads and three ridge calibrations.)
 #![allow(clippy::unwrap_used)]
 
 use tyreroad::contact_law::Material;
@@ -66,7 +68,7 @@ fn fields_couple_ridges_as_the_bem_does() -> TestResult {
             point.as_ref().map_err(|e| e.clone())?,
             fields.as_ref().map_err(|e| e.clone())?,
         );
-        eprintln!(
+        println!(
             "W {}: wrong asperity point {:.4} fields {:.4}; approach {:+.4} / {:+.4}; \
              10 mm fields {:.4} / {:.4}",
             point.load,
@@ -77,9 +79,17 @@ fn fields_couple_ridges_as_the_bem_does() -> TestResult {
             point.field_block[0],
             fields.field_block[0]
         );
-        assert!(fields.wrong_asperity <= point.wrong_asperity, "{fields:?}");
-        assert!(fields.wrong_asperity < 0.01, "{fields:?}");
-        assert!(fields.approach_error.abs() < 0.02, "{fields:?}");
+        // Measured (10 N, 30 N): load on the wrong ridge 4.5 and 5.5 % of
+        // W with the point kernel, 0.15 and 0.02 % with the fields; the
+        // approach −8.0 and −10.1 % (the point kernel couples the ridges
+        // far too weakly), −0.03 and +0.19 %; the 10 mm blocks as fields
+        // 2.4 and 3.1 %, 1.3 and 1.4 %. Held: the case discriminates (the
+        // point kernel > 3 % off), the fields below half a percent
+        // of W on the ridges and 1 % on the approach.
+        assert!(point.wrong_asperity > 0.03, "{point:?}");
+        assert!(fields.wrong_asperity < 0.005, "{fields:?}");
+        assert!(fields.approach_error.abs() < 0.01, "{fields:?}");
+        assert!(fields.field_block[0] < point.field_block[0], "{fields:?}");
     }
     Ok(())
 }

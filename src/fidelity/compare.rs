@@ -105,6 +105,9 @@ pub struct RungLoad {
     pub field_block: [f64; 2],
     /// Model solve time (s).
     pub seconds: f64,
+    /// Rounds of the field coupling's fixed point (0 for the other
+    /// couplings).
+    pub coupling_rounds: usize,
     /// The BEM's solve time at this load (s).
     pub bem_seconds: f64,
 }
@@ -291,7 +294,7 @@ fn bem_reference(
 }
 
 /// How a rung solves one load.
-type SolveLoad<'a> = dyn Fn(Control) -> Result<Solution, String> + Sync + 'a;
+type SolveLoad<'a> = dyn Fn(Control) -> Result<(Solution, usize), String> + Sync + 'a;
 
 /// Solves `problem` at every BEM load (by `solve_load`, or the solver's
 /// `solve` with `solver`) and measures it; `area` gives the
@@ -313,9 +316,12 @@ fn run_rung<L: ContactLaw + Sync>(
     bem.iter()
         .map(|b| {
             let t = Instant::now();
-            let s = match solve_load {
+            let (s, coupling_rounds) = match solve_load {
                 Some(f) => f(Control::Load(b.load))?,
-                None => solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?,
+                None => (
+                    solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?,
+                    0,
+                ),
             };
             let seconds = t.elapsed().as_secs_f64();
             let two = shapes
@@ -347,6 +353,7 @@ fn run_rung<L: ContactLaw + Sync>(
                 wrong_block,
                 field_block,
                 seconds,
+                coupling_rounds,
                 bem_seconds: b.seconds,
             })
         })
@@ -442,7 +449,7 @@ pub fn compare_texture(
                         &FieldCouplingOptions::default(),
                         None,
                     )
-                    .map(|f| f.solution)
+                    .map(|f| (f.solution, f.rounds))
                     .map_err(|e| e.to_string())
                 };
                 let solve_load: Option<&SolveLoad<'_>> = match rung.coupling {

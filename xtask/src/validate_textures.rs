@@ -295,6 +295,7 @@ fn tables(
                         field_block,
                         seconds,
                         bem_seconds,
+                        ..
                     }) => writeln!(
                         out,
                         "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
@@ -311,6 +312,23 @@ fn tables(
                     )?,
                     Err(e) => writeln!(out, "| {label} | {} | — | failed: {e} |", c.asperities)?,
                 }
+            }
+        }
+    }
+    let fields = Fidelity::CalibratedFields;
+    if rungs.contains(&fields) {
+        writeln!(
+            out,
+            "\nRung `{fields}`: rounds of the field coupling's fixed point (forces settled to \
+             1e-6 of W), per load:\n"
+        )?;
+        writeln!(out, "| road | W (N) | rounds |\n|---|---|---|")?;
+        for (label, c) in results {
+            let Some(res) = c.rungs.iter().find(|r| r.fidelity == fields) else {
+                continue;
+            };
+            for l in res.loads.iter().flatten() {
+                writeln!(out, "| {label} | {:.0} | {} |", l.load, l.coupling_rounds)?;
             }
         }
     }
