@@ -45,6 +45,13 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
         let e = Scenario::parse(&balls, "b").unwrap_err();
         assert!(e.to_string().contains("[model] fidelity"), "{e}");
     }
+    // The field coupling runs in the validation harness only: a scenario
+    // asking for it is refused by name, not run as `calibrated`.
+    let e = Scenario::parse(&texture_scenario("calibrated_fields"), "t").unwrap_err();
+    assert!(
+        e.to_string().contains("[model] fidelity") && e.to_string().contains("validate"),
+        "{e}"
+    );
     // Absent means the paper's law.
     let s = Scenario::parse(
         &texture_scenario("wilke").replace("[model]\nfidelity = \"wilke\"\n", ""),
