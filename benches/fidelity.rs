@@ -1,7 +1,8 @@
 //! Each rung of the fidelity ladder (`tyreroad::fidelity`) on a road-like
 //! field of 1500 summits: the static solve on every rung of
 //! `fidelity::RUNGS` (Wilke laws, point coupling; BEM-calibrated laws with
-//! point coupling, distributed near-pair coupling, clusters), and the
+//! point coupling, distributed near-pair coupling, clusters, and the
+//! calibrated pressure fields' coupling by its fixed point), and the
 //! calibration of one cap.
 //! And rolling (issue #15: "the rolling fixture with the best rung must
 //! stay within 3× of its time today"): 40 steps of the chip-seal fixture
@@ -18,8 +19,9 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::PotentialLaw;
+use tyreroad::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
 use tyreroad::fidelity::{
-    CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, LawSource, RUNGS, calibrate,
+    CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, Coupling, LawSource, RUNGS, calibrate,
 };
 use tyreroad::multipoint::{Control, Problem, SolverOptions, solve};
 
@@ -64,7 +66,8 @@ fn bench_rungs(c: &mut Criterion) {
         .iter()
         .map(|&r| PotentialLaw::sphere(Sphere::new(r).expect("radius"), rubber()))
         .collect();
-    let calibrator = Calibrator::new(rubber(), CalibrationOptions::default());
+    // With fields, for the calibrated_fields rung (the laws are the same).
+    let calibrator = Calibrator::new(rubber(), CalibrationOptions::default()).with_fields();
     let t = std::time::Instant::now();
     let calibrated_laws: Vec<CalibratedLaw> = radii
         .iter()
@@ -86,9 +89,23 @@ fn bench_rungs(c: &mut Criterion) {
     group.sample_size(10);
     for fidelity in RUNGS {
         let rung = fidelity.rung(&SolverOptions::default()).expect("rung");
-        let run = || match rung.laws {
-            LawSource::Potential => solve(&wilke, Control::Load(load), &rung.solver),
-            LawSource::Calibrated => solve(&calibrated, Control::Load(load), &rung.solver),
+        let control = Control::Load(load);
+        let run = || match (rung.laws, rung.coupling) {
+            (LawSource::Potential, _) => {
+                solve(&wilke, control, &rung.solver).map_err(|e| e.to_string())
+            }
+            (LawSource::Calibrated, Coupling::Solver) => {
+                solve(&calibrated, control, &rung.solver).map_err(|e| e.to_string())
+            }
+            (LawSource::Calibrated, Coupling::Fields) => solve_field_coupled(
+                &calibrated,
+                control,
+                &rung.solver,
+                &FieldCouplingOptions::default(),
+                None,
+            )
+            .map(|f| f.solution)
+            .map_err(|e| e.to_string()),
         };
         let s = run().expect("converges");
         eprintln!(

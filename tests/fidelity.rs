@@ -45,6 +45,13 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
         let e = Scenario::parse(&balls, "b").unwrap_err();
         assert!(e.to_string().contains("[model] fidelity"), "{e}");
     }
+    // The field coupling runs in the validation harness only: a scenario
+    // asking for it is refused by name, not run as `calibrated`.
+    let e = Scenario::parse(&texture_scenario("calibrated_fields"), "t").unwrap_err();
+    assert!(
+        e.to_string().contains("[model] fidelity") && e.to_string().contains("validate"),
+        "{e}"
+    );
     // Absent means the paper's law.
     let s = Scenario::parse(
         &texture_scenario("wilke").replace("[model]\nfidelity = \"wilke\"\n", ""),
@@ -112,8 +119,10 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
     let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
     assert_eq!(c.asperities, 2);
     // The two caps are the same shape: one calibration solve, which the
-    // calibrated, distributed and clustered rungs share (five cache hits).
-    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 5));
+    // calibrated, distributed, clustered and calibrated_fields rungs share
+    // (seven cache hits).
+    assert_eq!((c.cache.solved, c.cache.memory_hits), (1, 7));
+    assert_eq!(c.rungs[4].fidelity, Fidelity::CalibratedFields);
     assert_eq!(c.rungs[1].fidelity, Fidelity::Calibrated);
     assert_eq!(c.rungs[2].fidelity, Fidelity::Distributed);
     assert_eq!(c.rungs[3].fidelity, Fidelity::Clustered);
@@ -127,7 +136,12 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
         assert_eq!(a.approach_error.to_bits(), b.approach_error.to_bits());
         assert_eq!(a.wrong_asperity.to_bits(), b.wrong_asperity.to_bits());
     }
-    for l in c.rungs[1].loads.iter().chain(&c.rungs[2].loads) {
+    for l in c.rungs[1]
+        .loads
+        .iter()
+        .chain(&c.rungs[2].loads)
+        .chain(&c.rungs[4].loads)
+    {
         let l = l.as_ref().map_err(|e| e.clone())?;
         // Two balls 12 mm apart at a ≤ 1.4 mm: the point coupling (and
         // the distributed one, which tends to it) is within 0.5 % of the

@@ -20,6 +20,12 @@
 //! tolerance, so identical caps (the same chipping repeated, a sphere field)
 //! are solved once per [`Calibrator`]; optionally also on disk, one small
 //! CSV per shape.
+//!
+//! A calibrator [`Calibrator::with_fields`] also keeps, per knot, the BEM
+//! pressure binned into a compact field ([`super::field`]) for the
+//! `calibrated_fields` coupling. Fields are not in the disk cache (its
+//! format is unchanged): such a calibrator neither reads nor writes it and
+//! solves every new shape again.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -30,6 +36,7 @@ use tyreroad_contact_law::{ContactLaw, LawPoint, LocalContact, Material, Pressur
 use tyreroad_core::pchip::{PchipRule, pchip_slopes};
 
 use super::FidelityError;
+use super::field::{BinnedField, UnitField};
 
 /// Heights are quantised to this step (m) before hashing: caps equal to
 /// 1 nm share a table.
@@ -37,7 +44,8 @@ pub const HEIGHT_QUANTUM: f64 = 1e-9;
 
 /// The rigid surface of one asperity: `nx × ny` cells of `dx × dy`,
 /// row-major heights (m) relative to the law's summit (all `≤ 0`; the top
-/// cell may sit below 0 when the summit was refined between cells).
+/// cell may sit below 0 when the summit was refined between cells), and
+/// where cell `(0, 0)` is relative to the summit in plan.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CapPatch {
     /// Cells along x.
@@ -50,6 +58,10 @@ pub struct CapPatch {
     pub dy: f64,
     /// Heights (m), `ny` rows of `nx`, all finite and `≤ 0`.
     pub heights: Vec<f64>,
+    /// Plan position (m) of the centre of cell `(0, 0)` relative to the
+    /// summit (cell `(i, j)` at `origin + (i dx, j dy)`). Not part of the
+    /// shape: equal caps anywhere share a table.
+    pub origin: [f64; 2],
 }
 
 impl CapPatch {
@@ -73,6 +85,7 @@ impl CapPatch {
             dx: cell,
             dy: cell,
             heights,
+            origin: [-c * cell, -c * cell],
         };
         p.validate()?;
         Ok(p)
@@ -154,6 +167,9 @@ pub struct CalibratedTable {
     /// patch was too small for the range: the table is then stiffer than
     /// the real cap at the largest depths).
     pub reached_border: bool,
+    /// The binned BEM pressure at each knot, when asked for
+    /// ([`Calibrator::with_fields`]).
+    field: Option<BinnedField>,
 }
 
 impl CalibratedTable {
@@ -180,7 +196,37 @@ impl CalibratedTable {
             area,
             area_slope,
             reached_border,
+            field: None,
         }
+    }
+
+    /// The binned pressure fields, one per knot, if calibrated with them.
+    pub fn field(&self) -> Option<&BinnedField> {
+        self.field.as_ref()
+    }
+
+    /// The unit pressure field at `depth` (points relative to the patch's
+    /// cell `(0, 0)` shifted by `origin`, weights summing to one): the knots'
+    /// fields blended linearly in depth, the first loaded knot's below it,
+    /// the last knot's beyond the table. `None` without fields.
+    pub fn unit_field(&self, depth: f64, origin: [f64; 2]) -> Option<UnitField> {
+        let field = self.field.as_ref()?;
+        let n = self.depth.len();
+        if n == 0 {
+            return None;
+        }
+        let (k, t) = if !(depth > self.depth[0]) {
+            (0, 0.0)
+        } else if depth >= self.depth[n - 1] {
+            (n - 1, 0.0)
+        } else {
+            let k = self.depth.partition_point(|&v| v <= depth) - 1;
+            (
+                k,
+                (depth - self.depth[k]) / (self.depth[k + 1] - self.depth[k]),
+            )
+        };
+        field.unit_field(k, t, origin)
     }
 
     /// The table's knots `(δ, F, A)`.
@@ -235,16 +281,33 @@ fn hermite(xs: &[f64], ys: &[f64], ds: &[f64], x: f64) -> (f64, f64) {
     (value, slope)
 }
 
-/// A calibrated law: [`ContactLaw`] over a shared [`CalibratedTable`].
+/// A calibrated law: [`ContactLaw`] over a shared [`CalibratedTable`],
+/// and where its patch lies relative to the summit (for the fields).
 #[derive(Clone, Debug)]
 pub struct CalibratedLaw {
     table: Arc<CalibratedTable>,
+    origin: [f64; 2],
 }
 
 impl CalibratedLaw {
-    /// The law over `table`.
+    /// The law over `table`, its patch's cell `(0, 0)` at the summit.
     pub fn new(table: Arc<CalibratedTable>) -> Self {
-        Self { table }
+        Self {
+            table,
+            origin: [0.0; 2],
+        }
+    }
+
+    /// The law over `table` calibrated on a patch whose cell `(0, 0)` lies
+    /// at `origin` (m) from the summit ([`CapPatch::origin`]).
+    pub fn with_origin(table: Arc<CalibratedTable>, origin: [f64; 2]) -> Self {
+        Self { table, origin }
+    }
+
+    /// The unit pressure field at `depth`, points relative to the summit
+    /// ([`CalibratedTable::unit_field`]); `None` without fields.
+    pub fn unit_field(&self, depth: f64) -> Option<UnitField> {
+        self.table.unit_field(depth, self.origin)
     }
 
     /// Its table.
@@ -315,6 +378,30 @@ pub fn calibrate(
     material: &Material,
     options: &CalibrationOptions,
 ) -> Result<CalibratedTable, FidelityError> {
+    calibrate_table(patch, max_depth, material, options, false)
+}
+
+/// [`calibrate`], also keeping each knot's pressure binned
+/// ([`CalibratedTable::field`]).
+///
+/// # Errors
+/// As [`calibrate`].
+pub fn calibrate_with_fields(
+    patch: &CapPatch,
+    max_depth: f64,
+    material: &Material,
+    options: &CalibrationOptions,
+) -> Result<CalibratedTable, FidelityError> {
+    calibrate_table(patch, max_depth, material, options, true)
+}
+
+fn calibrate_table(
+    patch: &CapPatch,
+    max_depth: f64,
+    material: &Material,
+    options: &CalibrationOptions,
+    fields: bool,
+) -> Result<CalibratedTable, FidelityError> {
     patch.validate()?;
     if options.nodes < 4 {
         return Err(FidelityError::invalid(
@@ -349,10 +436,18 @@ pub fn calibrate(
     let mut depth = vec![0.0];
     let mut force = vec![0.0];
     let mut area = vec![0.0];
+    let mut field = fields.then(|| BinnedField::new(patch.nx, patch.ny, patch.dx, patch.dy));
+    let empty_knot = |field: &mut Option<BinnedField>| {
+        if let Some(f) = field {
+            f.push_knot(None, patch.nx, patch.dx, patch.dy);
+        }
+    };
+    empty_knot(&mut field);
     if offset > 0.0 {
         depth.push(offset);
         force.push(0.0);
         area.push(0.0);
+        empty_knot(&mut field);
     }
     let mut previous: Option<Vec<f64>> = None;
     let mut reached_border = false;
@@ -370,14 +465,14 @@ pub fn calibrate(
         if k == n {
             reached_border = touches_border(&sol.pressure, patch.nx, patch.ny);
         }
+        if let Some(f) = &mut field {
+            f.push_knot(Some(&sol.pressure), patch.nx, patch.dx, patch.dy);
+        }
         previous = Some(sol.pressure);
     }
-    Ok(CalibratedTable::from_knots(
-        depth,
-        force,
-        area,
-        reached_border,
-    ))
+    let mut table = CalibratedTable::from_knots(depth, force, area, reached_border);
+    table.field = field;
+    Ok(table)
 }
 
 fn touches_border(pressure: &[f64], nx: usize, ny: usize) -> bool {
@@ -421,6 +516,7 @@ pub struct Calibrator {
     memory: Mutex<HashMap<u64, Slot>>,
     disk: Option<PathBuf>,
     counts: Mutex<CacheCounts>,
+    fields: bool,
 }
 
 /// How often the cache answered.
@@ -443,7 +539,21 @@ impl Calibrator {
             memory: Mutex::new(HashMap::new()),
             disk: None,
             counts: Mutex::new(CacheCounts::default()),
+            fields: false,
         }
+    }
+
+    /// Also keeps each table's binned pressure fields (for the
+    /// `calibrated_fields` coupling); the disk cache, which holds no
+    /// fields, is then neither read nor written.
+    pub fn with_fields(mut self) -> Self {
+        self.fields = true;
+        self
+    }
+
+    /// Whether the tables carry fields.
+    pub fn has_fields(&self) -> bool {
+        self.fields
     }
 
     /// Also keeps tables on disk under `dir` (created on first write).
@@ -497,11 +607,12 @@ impl Calibrator {
         let mut slot = slot.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(t) = slot.as_ref() {
             self.count(|c| c.memory_hits += 1);
-            return Ok(CalibratedLaw::new(Arc::clone(t)));
+            return Ok(CalibratedLaw::with_origin(Arc::clone(t), patch.origin));
         }
         let file = self
             .disk
             .as_ref()
+            .filter(|_| !self.fields)
             .map(|d| d.join(format!("calib-{key:016x}.csv")));
         let table = match file.as_deref().and_then(read_table) {
             Some(t) => {
@@ -509,7 +620,8 @@ impl Calibrator {
                 t
             }
             None => {
-                let t = calibrate(patch, max_depth, &self.material, &self.options)?;
+                let t =
+                    calibrate_table(patch, max_depth, &self.material, &self.options, self.fields)?;
                 self.count(|c| c.solved += 1);
                 if let Some(f) = &file {
                     write_table(f, &t)?;
@@ -519,7 +631,7 @@ impl Calibrator {
         };
         let table = Arc::new(table);
         *slot = Some(Arc::clone(&table));
-        Ok(CalibratedLaw::new(table))
+        Ok(CalibratedLaw::with_origin(table, patch.origin))
     }
 
     fn count(&self, f: impl FnOnce(&mut CacheCounts)) {

@@ -35,8 +35,10 @@ use crate::texture::{HeightMap, UNLABELLED};
 use crate::texture_road::{TextureRoad, TextureRoadOptions, texture_road};
 use crate::two_scale::{LocalShape, TwoScale, TwoScaleOptions, two_scale_solution};
 
+use super::coupling::{FieldCouplingOptions, solve_field_coupled};
 use super::{
-    CacheCounts, CalibrationOptions, Calibrator, Fidelity, FidelityError, LawSource, calibrated_set,
+    CacheCounts, CalibrationOptions, Calibrator, Coupling, Fidelity, FidelityError, LawSource,
+    calibrated_set,
 };
 
 /// Block sizes of the block metrics (m).
@@ -103,6 +105,9 @@ pub struct RungLoad {
     pub field_block: [f64; 2],
     /// Model solve time (s).
     pub seconds: f64,
+    /// Rounds of the field coupling's fixed point (0 for the other
+    /// couplings).
+    pub coupling_rounds: usize,
     /// The BEM's solve time at this load (s).
     pub bem_seconds: f64,
 }
@@ -288,14 +293,20 @@ fn bem_reference(
     Ok(out)
 }
 
-/// Solves `problem` at every BEM load and measures it; `area` gives the
+/// How a rung solves one load.
+type SolveLoad<'a> = dyn Fn(Control) -> Result<(Solution, usize), String> + Sync + 'a;
+
+/// Solves `problem` at every BEM load (by `solve_load`, or the solver's
+/// `solve` with `solver`) and measures it; `area` gives the
 /// model's total contact area of a solution. With `shapes` (the
 /// asperities' real caps, [`TextureRoad::local_shapes`]) each solution is
 /// also rebuilt by [`two_scale_solution`], its block forces integrated from
 /// that pressure ([`field_blocks`]), and `area` sees the rebuild.
+#[allow(clippy::too_many_arguments)]
 fn run_rung<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     solver: &SolverOptions,
+    solve_load: Option<&SolveLoad<'_>>,
     bem: &[BemLoad],
     map: &HeightMap,
     summit_above_grid: f64,
@@ -305,7 +316,13 @@ fn run_rung<L: ContactLaw + Sync>(
     bem.iter()
         .map(|b| {
             let t = Instant::now();
-            let s = solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?;
+            let (s, coupling_rounds) = match solve_load {
+                Some(f) => f(Control::Load(b.load))?,
+                None => (
+                    solve(problem, Control::Load(b.load), solver).map_err(|e| e.to_string())?,
+                    0,
+                ),
+            };
             let seconds = t.elapsed().as_secs_f64();
             let two = shapes
                 .map(|shapes| {
@@ -336,6 +353,7 @@ fn run_rung<L: ContactLaw + Sync>(
                 wrong_block,
                 field_block,
                 seconds,
+                coupling_rounds,
                 bem_seconds: b.seconds,
             })
         })
@@ -371,7 +389,17 @@ pub fn compare_texture(
             .map(|b| b.approach + summit_above_grid)
             .fold(0.0, f64::max);
     let shapes = road.local_shapes(&std::sync::Arc::new(map.clone()))?;
+    // Fields cost only their binning; one calibrator serves every rung.
+    let needs_fields = options.rungs.iter().any(|f| {
+        f.rung(&options.solver)
+            .is_ok_and(|r| r.coupling == Coupling::Fields)
+    });
     let calibrator = Calibrator::new(material, options.calibration);
+    let calibrator = if needs_fields {
+        calibrator.with_fields()
+    } else {
+        calibrator
+    };
     let mut calibrated: Option<(Problem<super::CalibratedLaw>, f64)> = None;
     let mut rungs = Vec::new();
     for &fidelity in &options.rungs {
@@ -396,6 +424,7 @@ pub fn compare_texture(
                 let r = run_rung(
                     &wilke,
                     &rung.solver,
+                    None,
                     &bem,
                     map,
                     summit_above_grid,
@@ -412,9 +441,25 @@ pub fn compare_texture(
                 let area = |s: &Solution, _: Option<&TwoScale>| {
                     Ok(s.local_contacts(&problem).iter().map(|c| c.area()).sum())
                 };
+                let fields = |control| {
+                    solve_field_coupled(
+                        &problem,
+                        control,
+                        &rung.solver,
+                        &FieldCouplingOptions::default(),
+                        None,
+                    )
+                    .map(|f| (f.solution, f.rounds))
+                    .map_err(|e| e.to_string())
+                };
+                let solve_load: Option<&SolveLoad<'_>> = match rung.coupling {
+                    Coupling::Solver => None,
+                    Coupling::Fields => Some(&fields),
+                };
                 let r = run_rung(
                     &problem,
                     &rung.solver,
+                    solve_load,
                     &bem,
                     map,
                     summit_above_grid,

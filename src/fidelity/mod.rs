@@ -19,6 +19,13 @@
 //!   their pressure fields instead of the point kernel
 //!   ([`crate::multipoint::Interaction::DISTRIBUTED`], docs/theory.md §3);
 //!   far pairs keep the point kernel.
+//! - `calibrated_fields`: the calibrated laws, and every pair coupled
+//!   through the two asperities' own calibrated pressure fields (the
+//!   single-asperity BEM pressure binned per knot, [`field`]) at their
+//!   current depths instead of point forces at the summits, by a fixed
+//!   point over a sparse correction of the point kernel ([`coupling`],
+//!   docs/theory.md §3 "Field coupling"). `distributed` keeps its Hertz
+//!   discs: the two are measured side by side.
 //! - `clustered`: the calibrated laws, point coupling, and asperities whose
 //!   contact patches overlap merged into one body each
 //!   ([`crate::multipoint::Clusters::Always`], docs/theory.md §3
@@ -30,6 +37,8 @@
 
 mod calibrate;
 pub mod compare;
+pub mod coupling;
+pub mod field;
 pub mod rolling;
 pub mod segmentation;
 mod texture;
@@ -39,7 +48,7 @@ use std::str::FromStr;
 
 pub use calibrate::{
     CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, Calibrator, CapPatch,
-    HEIGHT_QUANTUM, calibrate,
+    HEIGHT_QUANTUM, calibrate, calibrate_with_fields,
 };
 pub use texture::{calibrated_set, cap_patch};
 
@@ -59,7 +68,10 @@ pub enum FidelityError {
         expected: String,
     },
     /// An unknown fidelity name.
-    #[error("unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed, clustered)")]
+    #[error(
+        "unknown fidelity `{0}` (expected one of: wilke, calibrated, distributed, \
+         calibrated_fields, clustered)"
+    )]
     UnknownFidelity(String),
     /// A BEM solve failed.
     #[error("{context}: {source}")]
@@ -86,6 +98,14 @@ pub enum FidelityError {
     /// The rolling run that bounds a calibration's approach failed.
     #[error("rolling run: {0}")]
     Rolling(#[from] crate::rolling::RollingError),
+    /// The field coupling's fixed point did not settle.
+    #[error("field coupling: forces still moving by {change:e} of the load after {rounds} rounds")]
+    FieldCoupling {
+        /// Rounds run.
+        rounds: usize,
+        /// The last round's largest force change over the load.
+        change: f64,
+    },
 }
 
 impl FidelityError {
@@ -107,17 +127,21 @@ pub enum Fidelity {
     Calibrated,
     /// BEM-calibrated laws, distributed near-pair coupling.
     Distributed,
+    /// BEM-calibrated laws, pairs coupled through their calibrated
+    /// pressure fields.
+    CalibratedFields,
     /// BEM-calibrated laws, point coupling, overlapping contacts merged
     /// into clusters solved as one body.
     Clustered,
 }
 
 /// Every rung, in ladder order: the validation harness runs this list.
-pub const RUNGS: [Fidelity; 4] = [
+pub const RUNGS: [Fidelity; 5] = [
     Fidelity::Wilke,
     Fidelity::Calibrated,
     Fidelity::Distributed,
     Fidelity::Clustered,
+    Fidelity::CalibratedFields,
 ];
 
 /// Where a rung's laws come from.
@@ -129,13 +153,25 @@ pub enum LawSource {
     Calibrated,
 }
 
-/// What a rung runs: its laws and its solver options.
+/// How a rung couples its asperities beyond what the solver options say.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coupling {
+    /// The solver's own interaction ([`SolverOptions::interaction`]).
+    Solver,
+    /// The calibrated pressure fields ([`coupling::solve_field_coupled`]
+    /// over laws calibrated [`Calibrator::with_fields`]).
+    Fields,
+}
+
+/// What a rung runs: its laws, its coupling and its solver options.
 #[derive(Clone, Debug)]
 pub struct Rung {
     /// The rung.
     pub fidelity: Fidelity,
     /// Where its laws come from.
     pub laws: LawSource,
+    /// How its asperities couple.
+    pub coupling: Coupling,
     /// Its solver options.
     pub solver: SolverOptions,
 }
@@ -147,6 +183,7 @@ impl Fidelity {
             Self::Wilke => "wilke",
             Self::Calibrated => "calibrated",
             Self::Distributed => "distributed",
+            Self::CalibratedFields => "calibrated_fields",
             Self::Clustered => "clustered",
         }
     }
@@ -169,11 +206,20 @@ impl Fidelity {
                 Interaction::DISTRIBUTED,
                 base.clusters,
             ),
+            // The correction rides on the point kernel; clusters have no
+            // fields (the corrected solves run without them).
+            Self::CalibratedFields => (LawSource::Calibrated, Interaction::Point, base.clusters),
             Self::Clustered => (LawSource::Calibrated, Interaction::Point, Clusters::Always),
+        };
+        let coupling = if self == Self::CalibratedFields {
+            Coupling::Fields
+        } else {
+            Coupling::Solver
         };
         Ok(Rung {
             fidelity: self,
             laws,
+            coupling,
             solver: SolverOptions {
                 interaction,
                 clusters,

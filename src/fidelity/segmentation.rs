@@ -11,13 +11,14 @@
 //! zeros; docs/validation.md holds the measured table and the 1 % target.
 
 use crate::contact_law::{ContactLaw, Material};
-use crate::multipoint::{Control, Problem, SolverOptions, solve};
+use crate::multipoint::{Control, Problem, Solution, SolverOptions, solve};
 use crate::texture::HeightMap;
 use crate::texture_road::{TextureRoad, TextureRoadOptions, texture_road};
 use crate::two_scale::{TwoScaleOptions, two_scale_solution};
 
 use super::compare::{APPROACH_MARGIN, BLOCKS, field_blocks, wrong_load};
-use super::{Calibrator, Fidelity, FidelityError, LawSource, calibrated_set};
+use super::coupling::{FieldCouplingOptions, solve_field_coupled};
+use super::{Calibrator, Coupling, Fidelity, FidelityError, LawSource, calibrated_set};
 
 /// One load solved on both segmentations.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,14 +87,26 @@ pub fn segmentation_spread(
         let wilke = Problem::from_set(road.set.clone(), material)?;
         let out = match rung.laws {
             LawSource::Potential => {
-                outputs_of(&wilke, &road, map, grid_top, loads, &rung.solver, true)?
+                let solve_one = |w| Ok(solve(&wilke, Control::Load(w), &rung.solver)?);
+                outputs_of(&wilke, &road, map, grid_top, loads, &solve_one, true)?
             }
             LawSource::Calibrated => {
                 let top_load = loads.iter().copied().fold(0.0, f64::max);
                 let deepest = solve(&wilke, Control::Load(top_load), &rung.solver)?.approach;
                 let set = calibrated_set(&road, map, APPROACH_MARGIN * deepest, calibrator)?;
                 let problem = Problem::from_set(set, material)?;
-                outputs_of(&problem, &road, map, grid_top, loads, &rung.solver, false)?
+                let solve_one = |w| match rung.coupling {
+                    Coupling::Solver => Ok(solve(&problem, Control::Load(w), &rung.solver)?),
+                    Coupling::Fields => Ok(solve_field_coupled(
+                        &problem,
+                        Control::Load(w),
+                        &rung.solver,
+                        &FieldCouplingOptions::default(),
+                        None,
+                    )?
+                    .solution),
+                };
+                outputs_of(&problem, &road, map, grid_top, loads, &solve_one, false)?
             }
         };
         outputs.push(out);
@@ -119,7 +132,7 @@ fn outputs_of<L: ContactLaw + Sync>(
     map: &HeightMap,
     grid_top: f64,
     loads: &[f64],
-    solver: &SolverOptions,
+    solve_one: &dyn Fn(f64) -> Result<Solution, FidelityError>,
     two_scale_area: bool,
 ) -> Result<Outputs, FidelityError> {
     let shapes = road.local_shapes(&std::sync::Arc::new(map.clone()))?;
@@ -127,7 +140,7 @@ fn outputs_of<L: ContactLaw + Sync>(
     loads
         .iter()
         .map(|&w| {
-            let s = solve(problem, Control::Load(w), solver)?;
+            let s = solve_one(w)?;
             let two = two_scale_solution(problem, &s, &shapes, &TwoScaleOptions::default())
                 .map_err(|e| FidelityError::invalid("two-scale rebuild", e, "a rebuild"))?;
             let area = if two_scale_area {

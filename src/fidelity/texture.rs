@@ -83,6 +83,10 @@ pub fn cap_patch(map: &HeightMap, a: &Asperity, max_depth: f64) -> Result<CapPat
         dx: map.dx(),
         dy: map.dy(),
         heights,
+        origin: [
+            i0 as f64 * map.dx() - a.summit[0],
+            j0 as f64 * map.dy() - a.summit[1],
+        ],
     })
 }
 

@@ -16,7 +16,7 @@ use tyreroad::fidelity::compare::{
     BLOCKS, CompareOptions, RungLoad, TextureComparison, bem_resolution, compare_texture,
 };
 use tyreroad::fidelity::segmentation::segmentation_spread;
-use tyreroad::fidelity::{CalibrationOptions, RUNGS};
+use tyreroad::fidelity::{CalibrationOptions, Fidelity, RUNGS};
 use tyreroad::multipoint::SolverOptions;
 use tyreroad::scenario::Scenario;
 use tyreroad::scenario::output::OutputSet;
@@ -96,6 +96,11 @@ pub struct TextureArgs {
     /// outputs move (docs/validation.md, "Segmentation invariance").
     #[arg(long)]
     pub segmentation: bool,
+    /// With `--textures`: only these rungs, comma-separated names (e.g.
+    /// "calibrated,calibrated_fields"); every rung of `fidelity::RUNGS`
+    /// when absent.
+    #[arg(long, value_delimiter = ',')]
+    pub rungs: Vec<String>,
 }
 
 /// Runs the texture validation; fails only if a case cannot be run at all
@@ -114,11 +119,20 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         let known: Vec<&str> = KINDS.iter().map(|k| k.0).collect();
         bail!("unknown --kind (known: {})", known.join(", "));
     }
+    let rungs: Vec<Fidelity> = if args.rungs.is_empty() {
+        RUNGS.to_vec()
+    } else {
+        args.rungs
+            .iter()
+            .map(|r| r.trim().parse::<Fidelity>())
+            .collect::<Result<_, _>>()
+            .context("--rungs")?
+    };
     let options = CompareOptions {
         loads: LOADS.to_vec(),
         road: tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6),
         calibration: CalibrationOptions::default(),
-        rungs: RUNGS.to_vec(),
+        rungs: rungs.clone(),
         solver: SolverOptions::default(),
     };
     let mut results = Vec::new();
@@ -165,7 +179,10 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         }
         // Each road's rows as soon as they exist: a long run that is cut
         // short still leaves its finished roads on the terminal.
-        print!("{}", tables(&[(label, c.clone())], cells, spacing_mm)?);
+        print!(
+            "{}",
+            tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?
+        );
         if args.segmentation {
             let rows = segmentation_rows(label, &map, material, &options)?;
             print!("{rows}");
@@ -173,7 +190,7 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         }
         results.push((*label, c));
     }
-    report.push_str(&tables(&results, cells, spacing_mm)?);
+    report.push_str(&tables(&results, &rungs, cells, spacing_mm)?);
     if args.segmentation {
         writeln!(report, "\n{SEGMENTATION_HEADER}")?;
         report.push_str(&segmentation);
@@ -231,10 +248,15 @@ fn segmentation_rows(
     Ok(out)
 }
 
-fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) -> Result<String> {
+fn tables(
+    results: &[(&str, TextureComparison)],
+    rungs: &[Fidelity],
+    cells: usize,
+    spacing_mm: f64,
+) -> Result<String> {
     let mut out = String::new();
     let side = cells as f64 * spacing_mm;
-    for (r, rung) in RUNGS.iter().enumerate() {
+    for rung in rungs {
         writeln!(
             out,
             "\nRung `{rung}` ({side:.0} × {side:.0} mm at {spacing_mm} mm; targets: approach {}, \
@@ -255,7 +277,9 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
         )?;
         for (label, c) in results {
-            let Some(res) = c.rungs.get(r) else { continue };
+            let Some(res) = c.rungs.iter().find(|r| r.fidelity == *rung) else {
+                continue;
+            };
             if let Some(why) = &res.unavailable {
                 writeln!(out, "| {label} | {} | — | {why} |", c.asperities)?;
                 continue;
@@ -271,6 +295,7 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
                         field_block,
                         seconds,
                         bem_seconds,
+                        ..
                     }) => writeln!(
                         out,
                         "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
@@ -287,6 +312,23 @@ fn tables(results: &[(&str, TextureComparison)], cells: usize, spacing_mm: f64) 
                     )?,
                     Err(e) => writeln!(out, "| {label} | {} | — | failed: {e} |", c.asperities)?,
                 }
+            }
+        }
+    }
+    let fields = Fidelity::CalibratedFields;
+    if rungs.contains(&fields) {
+        writeln!(
+            out,
+            "\nRung `{fields}`: rounds of the field coupling's fixed point (forces settled to \
+             1e-6 of W), per load:\n"
+        )?;
+        writeln!(out, "| road | W (N) | rounds |\n|---|---|---|")?;
+        for (label, c) in results {
+            let Some(res) = c.rungs.iter().find(|r| r.fidelity == fields) else {
+                continue;
+            };
+            for l in res.loads.iter().flatten() {
+                writeln!(out, "| {label} | {:.0} | {} |", l.load, l.coupling_rounds)?;
             }
         }
     }

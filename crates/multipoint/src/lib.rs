@@ -14,6 +14,12 @@
 //! `Σ P_i = W` ([`Control::Load`], `δ0` unknown). An asperity with `δ_i ≤ 0`
 //! carries no force.
 //!
+//! [`solve_corrected`] adds a caller's fixed sparse symmetric correction
+//! ([`PairCorrection`], entries `C_ij`, `i ≠ j`) to the kernel, `T + C`,
+//! in every residual, dense matrix and Krylov product: numbers the caller
+//! computed (e.g. from each asperity's own pressure field), which the solver
+//! does not interpret; clusters are off in such a solve.
+//!
 //! With [`Interaction::Distributed`] ([`SolverOptions::interaction`]), pairs
 //! closer than `2c (a_i + a_j)` (`a` the radii of the laws' local contacts
 //! at the current state) couple instead through the mutual compliance of
@@ -151,7 +157,10 @@ pub use fast::{FastBoussinesq, FastOptions};
 pub use interaction::{Boussinesq, hertz_potential, mutual_compliance};
 pub use problem::Problem;
 pub use solution::{Convergence, Recovery, Solution, overlapping_contacts, pressure_map};
-pub use solver::{Clusters, Control, Interaction, LinearSolver, SolverOptions, solve, solve_from};
+pub use solver::{
+    Clusters, Control, Interaction, LinearSolver, PairCorrection, SolverOptions, solve,
+    solve_corrected, solve_from,
+};
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_core::Par;
 pub use tyreroad_core::{Field, Grid};

@@ -344,7 +344,7 @@ fn solve_bodies<L: ContactLaw + Sync>(
     spent: &mut usize,
 ) -> Result<Solution, SolveError> {
     let small = reduced(problem, bodies)?;
-    let attempt = solve_attempts(&small, control, options, None, levels);
+    let attempt = solve_attempts(&small, control, options, None, levels, &[]);
     if std::env::var_os("TYREROAD_PROFILE").is_some() {
         let sizes: Vec<usize> = bodies
             .iter()

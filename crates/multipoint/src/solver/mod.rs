@@ -10,6 +10,7 @@
 //! (the matrix-free step).
 
 mod cluster;
+mod correction;
 mod dense;
 mod krylov_step;
 mod near;
@@ -27,6 +28,7 @@ use faer::Par;
 use crate::{
     Boussinesq, Convergence, FastBoussinesq, FastOptions, Problem, Recovery, Solution, SolveError,
 };
+pub use correction::{PairCorrection, solve_corrected};
 use near::NearField;
 use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
@@ -64,7 +66,7 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
     initial: Option<&Solution>,
     levels: &CoarseLevels,
 ) -> Result<Solution, SolveError> {
-    let result = solve_attempts(problem, control, options, initial, levels);
+    let result = solve_attempts(problem, control, options, initial, levels, &[]);
     let result = cluster::refine(problem, control, options, initial, levels, result);
     if std::env::var_os("TYREROAD_PROFILE").is_some() {
         match &result {
@@ -78,13 +80,16 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
     result
 }
 
-/// [`solve_with`] without the profile's summary line.
+/// [`solve_with`] without the profile's summary line and the clusters, the
+/// coupling corrected by the `fixed` pairs `(i, j, C_ij)` (each unordered
+/// pair once; empty for the plain kernel).
 fn solve_attempts<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     control: Control,
     options: &SolverOptions,
     initial: Option<&Solution>,
     levels: &CoarseLevels,
+    fixed: &[(usize, usize, f64)],
 ) -> Result<Solution, SolveError> {
     check_control(control)?;
     check_options(options)?;
@@ -102,6 +107,7 @@ fn solve_attempts<L: ContactLaw + Sync>(
         options.interaction,
         problem.positions(),
         problem.material().boussinesq_factor(),
+        fixed,
     );
     let exact = Boussinesq::new(problem.positions(), problem.material().boussinesq_factor());
     let may_krylov = options.linear_solver != LinearSolver::Dense;

@@ -21,6 +21,11 @@
 //! is then a quasi-Newton method converging linearly near the solution,
 //! with a contraction that the tests and the sweeps of docs/validation.md
 //! measure (a few extra iterations, no lost convergence).
+//!
+//! A fixed correction ([`PairCorrection`](super::correction::PairCorrection),
+//! handed in by the caller) rides on the same pairs: its entries are kept
+//! through every update and added after the distributed ones, so the
+//! residual, the dense matrix and the Krylov products all see `T + C`.
 
 use tyreroad_contact_law::ContactLaw;
 
@@ -28,7 +33,11 @@ use super::options::Interaction;
 use crate::mutual_compliance;
 
 pub(super) struct NearField {
-    near_factor: f64,
+    /// The distributed kernel's blend start, `None` when only the fixed
+    /// correction is present.
+    near_factor: Option<f64>,
+    /// The caller's fixed pairs, appended after every update.
+    fixed: Vec<(usize, usize, f64)>,
     factor: f64,
     /// Asperity indices sorted by x, and their x coordinates.
     order: Vec<usize>,
@@ -41,25 +50,30 @@ pub(super) struct NearField {
 }
 
 impl NearField {
-    /// The correction for `interaction`, or `None` for the point kernel.
+    /// The correction for `interaction` plus the `fixed` pairs, or `None`
+    /// for the point kernel without fixed pairs.
     pub(super) fn new(
         interaction: Interaction,
         positions: &[[f64; 2]],
         factor: f64,
+        fixed: &[(usize, usize, f64)],
     ) -> Option<Self> {
-        let Interaction::Distributed { near_factor } = interaction else {
-            return None;
+        let near_factor = match interaction {
+            Interaction::Distributed { near_factor } => Some(near_factor),
+            Interaction::Point if fixed.is_empty() => return None,
+            Interaction::Point => None,
         };
         let mut order: Vec<usize> = (0..positions.len()).collect();
         order.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
         let xs = order.iter().map(|&i| positions[i][0]).collect();
         Some(Self {
             near_factor,
+            fixed: fixed.to_vec(),
             factor,
             order,
             xs,
             radii: vec![0.0; positions.len()],
-            pairs: Vec::new(),
+            pairs: fixed.to_vec(),
         })
     }
 
@@ -72,6 +86,10 @@ impl NearField {
         p: &[f64],
         delta: &[f64],
     ) {
+        let Some(near_factor) = self.near_factor else {
+            // Only the fixed pairs: nothing follows the state.
+            return;
+        };
         let mut a_max = 0.0_f64;
         for (i, a) in self.radii.iter_mut().enumerate() {
             *a = 0.0;
@@ -84,7 +102,7 @@ impl NearField {
             }
         }
         self.pairs.clear();
-        let far = 2.0 * self.near_factor;
+        let far = 2.0 * near_factor;
         for j in 0..p.len() {
             let aj = self.radii[j];
             if aj <= 0.0 {
@@ -106,7 +124,7 @@ impl NearField {
                 if s >= far || r == 0.0 {
                     continue;
                 }
-                let t = ((s - self.near_factor) / self.near_factor).clamp(0.0, 1.0);
+                let t = ((s - near_factor) / near_factor).clamp(0.0, 1.0);
                 let blend = 1.0 - t * t * (3.0 - 2.0 * t);
                 let c = self.factor * blend * (mutual_compliance(r, ai, aj) - 1.0 / r);
                 if c != 0.0 {
@@ -114,6 +132,7 @@ impl NearField {
                 }
             }
         }
+        self.pairs.extend_from_slice(&self.fixed);
     }
 
     /// `out += C x`.

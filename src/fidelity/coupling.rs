@@ -1,0 +1,262 @@
+//! The `calibrated_fields` coupling: asperities coupled through their own
+//! calibrated pressure fields instead of point forces at their summits
+//! (issue 15 rung 2; docs/theory.md §3, "Field coupling").
+//!
+//! With `w_ia` at `x_ia` the unit field of asperity `i` at its current
+//! depth `δ_i` ([`CalibratedLaw::unit_field`], binned BEM pressure of its
+//! own cap, [`super::field`]), the coupling of `i` and `j` is the
+//! work-conjugate mean displacement of one field under the other,
+//!
+//! ```text
+//! T_ij + C_ij = f Σ_a Σ_b w_ia w_jb / |x_ia − x_jb|,    f = 1/(π E*)
+//! C_ij = f (G_ij − 1/r_ij)
+//! ```
+//!
+//! handed to the solver as a fixed sparse correction of the point kernel
+//! ([`crate::multipoint::PairCorrection`]; the solver knows nothing of
+//! fields). Pairs closer than `reach (R_i + R_j)` (`R` the largest distance
+//! of a field's bins from its summit) take the double sum; farther pairs
+//! take the two fields' centroids, `G_ij = 1/|c_i − c_j|` (what is left,
+//! the fields' second moments, is `O((R/r)²) < 1/reach²` of `1/r`); pairs
+//! where `|G_ij r_ij − 1| < ` [`NEGLIGIBLE`] are left out. An asperity out
+//! of contact has the field of its first loaded knot (its contact at
+//! onset), which is what decides whether it comes into contact.
+//!
+//! Since `C` depends on the depths, an outer fixed point: solve with the
+//! point kernel, compute `C` at the solution's depths, solve again from
+//! that solution with `T + C`, and repeat until no force moves by more than
+//! `tolerance × scale` (the load, or the total force under approach
+//! control) between rounds. Each round's solve converges to the solver's
+//! tolerance; the fixed point is the consistent state.
+
+use rayon::prelude::*;
+
+use super::field::{UnitField, centroid_and_reach, field_compliance};
+use super::{CalibratedLaw, FidelityError};
+use crate::multipoint::{
+    Control, PairCorrection, Problem, Solution, SolverOptions, solve_corrected, solve_from,
+};
+
+/// Pairs whose field coupling differs from the point kernel by less than
+/// this fraction of it are left to the point kernel.
+pub const NEGLIGIBLE: f64 = 1e-4;
+
+/// How the field coupling is computed and iterated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldCouplingOptions {
+    /// Pairs closer than `reach (R_i + R_j)` take the binned double sum,
+    /// farther ones their centroids (module docs). Default 4.
+    pub reach: f64,
+    /// The fixed point stops when no force moves by more than this
+    /// fraction of the scale between rounds. Default 1e-6.
+    pub tolerance: f64,
+    /// Most rounds of the fixed point. Default 30.
+    pub max_rounds: usize,
+}
+
+impl Default for FieldCouplingOptions {
+    fn default() -> Self {
+        Self {
+            reach: 4.0,
+            tolerance: 1e-6,
+            max_rounds: 30,
+        }
+    }
+}
+
+impl FieldCouplingOptions {
+    fn validate(&self) -> Result<(), FidelityError> {
+        if !(self.reach.is_finite() && self.reach >= 1.0) {
+            return Err(FidelityError::invalid(
+                "field coupling reach",
+                self.reach,
+                "finite and >= 1",
+            ));
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(FidelityError::invalid(
+                "field coupling tolerance",
+                self.tolerance,
+                "finite and > 0",
+            ));
+        }
+        if self.max_rounds == 0 {
+            return Err(FidelityError::invalid("field coupling rounds", 0, ">= 1"));
+        }
+        Ok(())
+    }
+}
+
+/// The correction at one state, and how its pairs were computed.
+#[derive(Clone, Debug)]
+pub struct FieldCorrection {
+    /// `C` for the solver.
+    pub correction: PairCorrection,
+    /// Pairs computed by the binned double sum.
+    pub field_pairs: usize,
+    /// Pairs computed from the fields' centroids.
+    pub centroid_pairs: usize,
+}
+
+/// The correction `C` of the point kernel at the asperities' `depths`
+/// (module docs).
+///
+/// # Errors
+/// [`FidelityError::InvalidInput`] for a depth count that is not the
+/// problem's, an invalid `reach`, or a law calibrated without fields
+/// ([`super::Calibrator::with_fields`]).
+pub fn field_correction(
+    problem: &Problem<CalibratedLaw>,
+    depths: &[f64],
+    reach: f64,
+) -> Result<FieldCorrection, FidelityError> {
+    let n = problem.len();
+    if depths.len() != n {
+        return Err(FidelityError::invalid(
+            "depths",
+            depths.len(),
+            format!("{n} values"),
+        ));
+    }
+    if !(reach.is_finite() && reach >= 1.0) {
+        return Err(FidelityError::invalid(
+            "field coupling reach",
+            reach,
+            "finite and >= 1",
+        ));
+    }
+    let positions = problem.positions();
+    let fields: Vec<(UnitField, [f64; 2], f64, f64)> = problem
+        .laws()
+        .iter()
+        .zip(positions)
+        .zip(depths)
+        .enumerate()
+        .map(|(i, ((law, p), &d))| {
+            let bin = law.table().field().map(|f| f.bin_size());
+            let (Some(local), Some(bin)) = (law.unit_field(d), bin) else {
+                return Err(FidelityError::invalid(
+                    "asperity law",
+                    format!("asperity {i} without a pressure field"),
+                    "a table calibrated with fields (Calibrator::with_fields)",
+                ));
+            };
+            let field: UnitField = local
+                .into_iter()
+                .map(|(x, w)| ([p[0] + x[0], p[1] + x[1]], w))
+                .collect();
+            let (centroid, extent) = centroid_and_reach(&field, *p);
+            Ok((field, centroid, extent, bin))
+        })
+        .collect::<Result<_, _>>()?;
+    let factor = problem.material().boussinesq_factor();
+    let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let (fi, ci, ri, bi) = &fields[i];
+            let mut row = Vec::new();
+            for (j, (fj, cj, rj, bj)) in fields.iter().enumerate().skip(i + 1) {
+                let r =
+                    (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
+                if r == 0.0 {
+                    // Coincident summits have no point coupling to correct.
+                    continue;
+                }
+                let near = r < reach * (ri + rj);
+                let g = if near {
+                    field_compliance(fi, fj, 0.5 * bi.min(*bj))
+                } else {
+                    1.0 / (ci[0] - cj[0]).hypot(ci[1] - cj[1])
+                };
+                if (g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite() {
+                    row.push((i, j, factor * (g - 1.0 / r), near));
+                }
+            }
+            row
+        })
+        .collect();
+    let pairs: Vec<_> = rows.into_iter().flatten().collect();
+    let field_pairs = pairs.iter().filter(|p| p.3).count();
+    let centroid_pairs = pairs.len() - field_pairs;
+    let correction =
+        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
+    Ok(FieldCorrection {
+        correction,
+        field_pairs,
+        centroid_pairs,
+    })
+}
+
+/// A field-coupled solution.
+#[derive(Clone, Debug)]
+pub struct FieldSolution {
+    /// The solution of the last round (coupling `T + C` at its own depths
+    /// to the fixed point's tolerance).
+    pub solution: Solution,
+    /// Rounds of the fixed point (corrected solves).
+    pub rounds: usize,
+    /// The largest force change of the last round over the scale.
+    pub change: f64,
+    /// The last correction's pairs: binned double sums and centroid ones.
+    pub field_pairs: usize,
+    /// See [`Self::field_pairs`].
+    pub centroid_pairs: usize,
+}
+
+/// Solves `problem` (calibrated with fields) under `control` with the field
+/// coupling (module docs), from `initial` or cold.
+///
+/// # Errors
+/// As [`field_correction`]; [`FidelityError::Solve`] when a round's solve
+/// fails; [`FidelityError::FieldCoupling`] when the fixed point has not
+/// settled after `options.max_rounds` rounds.
+pub fn solve_field_coupled(
+    problem: &Problem<CalibratedLaw>,
+    control: Control,
+    solver: &SolverOptions,
+    options: &FieldCouplingOptions,
+    initial: Option<&Solution>,
+) -> Result<FieldSolution, FidelityError> {
+    options.validate()?;
+    let mut s = solve_from(problem, control, solver, initial)?;
+    let scale = match control {
+        Control::Load(w) => w,
+        Control::Approach(_) => s.forces.iter().sum(),
+    };
+    if !(scale > 0.0) {
+        // Nothing in contact: nothing to couple.
+        return Ok(FieldSolution {
+            solution: s,
+            rounds: 0,
+            change: 0.0,
+            field_pairs: 0,
+            centroid_pairs: 0,
+        });
+    }
+    let mut change = f64::INFINITY;
+    for round in 1..=options.max_rounds {
+        let c = field_correction(problem, &s.depths, options.reach)?;
+        let next = solve_corrected(problem, control, solver, Some(&s), &c.correction)?;
+        change = next
+            .forces
+            .iter()
+            .zip(&s.forces)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        s = next;
+        if change <= options.tolerance {
+            return Ok(FieldSolution {
+                solution: s,
+                rounds: round,
+                change,
+                field_pairs: c.field_pairs,
+                centroid_pairs: c.centroid_pairs,
+            });
+        }
+    }
+    Err(FidelityError::FieldCoupling {
+        rounds: options.max_rounds,
+        change,
+    })
+}
