@@ -97,6 +97,28 @@ fn coordinate(key: &str, value: f64) -> Result<(), ScenarioError> {
     in_range(key, value, [-MAX_COORDINATE, MAX_COORDINATE], false, "m")
 }
 
+/// Refuses a thread count above [`THREAD_OVERSUBSCRIPTION`] × the cores
+/// (0 means every core): thousands of threads on a few cores only thrash,
+/// and the count is read from files and command lines alike. `key` names
+/// where it came from (`"[rolling] threads"`, `"--threads"`).
+///
+/// # Errors
+/// [`ScenarioError::Invalid`] naming `key`, the value and the range.
+pub fn check_threads(key: &str, n: usize) -> Result<usize, ScenarioError> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if n > THREAD_OVERSUBSCRIPTION * cores {
+        return Err(bad(
+            key,
+            n,
+            &format!(
+                "0 (every core) to {} ({THREAD_OVERSUBSCRIPTION} × the {cores} cores)",
+                THREAD_OVERSUBSCRIPTION * cores
+            ),
+        ));
+    }
+    Ok(n)
+}
+
 /// An output name must be a plain file name: it becomes the stem of files
 /// inside the output folder and must not lead out of it.
 pub fn check_name(name: &str) -> Result<(), ScenarioError> {
@@ -434,17 +456,7 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
         )?;
     }
     if let Some(n) = r.threads {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        if n > THREAD_OVERSUBSCRIPTION * cores {
-            return Err(bad(
-                "[rolling] threads",
-                n,
-                &format!(
-                    "0 (every core) to {} ({THREAD_OVERSUBSCRIPTION} × the {cores} cores)",
-                    THREAD_OVERSUBSCRIPTION * cores
-                ),
-            ));
-        }
+        check_threads("[rolling] threads", n)?;
     }
     if let Some(k) = r.chunks
         && !(1.0..=steps).contains(&(k as f64))

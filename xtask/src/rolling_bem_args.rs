@@ -26,7 +26,7 @@ pub struct RollingBemArgs {
     #[arg(long)]
     pub segment: Option<usize>,
     /// Threads of both runs (0: every core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::parse_threads)]
     pub threads: usize,
     /// Relative tolerance of each BEM step.
     #[arg(long, default_value_t = 1e-7)]
@@ -62,7 +62,7 @@ pub struct RollingBemArgs {
 
 /// One row of the comparison table: per-step and band errors of a signal.
 pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
-    println!(
+    say!(
         "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
         label,
         100.0 * s.max_error,
