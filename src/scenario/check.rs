@@ -97,6 +97,24 @@ fn coordinate(key: &str, value: f64) -> Result<(), ScenarioError> {
     in_range(key, value, [-MAX_COORDINATE, MAX_COORDINATE], false, "m")
 }
 
+/// The grid spacing of a `[texture] file` (from its header, sidecar or
+/// member), held to the range `[texture.synth] spacing` is: a file saying
+/// 1e30 m per point otherwise fails much later as a solver that does not
+/// converge.
+pub(crate) fn texture_file_spacing(
+    path: &std::path::Path,
+    dx: f64,
+    dy: f64,
+) -> Result<(), ScenarioError> {
+    for (axis, d) in [("dx", dx), ("dy", dy)] {
+        size(
+            &format!("[texture] file {} spacing {axis}", path.display()),
+            d,
+        )?;
+    }
+    Ok(())
+}
+
 /// Refuses a thread count above [`THREAD_OVERSUBSCRIPTION`] × the cores
 /// (0 means every core): thousands of threads on a few cores only thrash,
 /// and the count is read from files and command lines alike. `key` names

@@ -426,6 +426,15 @@ fn npy_window_road(
     let Some(path) = npy_file(texture, options) else {
         return Ok(None);
     };
+    // Before the open pass over the whole file, which a spacing of 1e30 m
+    // would only make slow and useless.
+    let (dx, dy) = crate::texture::io::npy::sidecar_spacing(&path).map_err(|source| {
+        ScenarioError::Texture {
+            context: format!("[texture] reading {}", path.display()),
+            source,
+        }
+    })?;
+    super::check::texture_file_spacing(&path, dx, dy)?;
     Ok(Some(NpyTextureRoad::open(
         &path,
         material,

@@ -276,7 +276,11 @@ mod tests {
             bytes.extend_from_slice(&vec![0u8; data]);
             std::fs::write(&path, bytes).unwrap();
             let layout = npy_layout(&path);
-            assert_eq!(layout.is_err(), refused, "{shape} with {data} bytes: {layout:?}");
+            assert_eq!(
+                layout.is_err(),
+                refused,
+                "{shape} with {data} bytes: {layout:?}"
+            );
             if refused {
                 let err = layout.unwrap_err().to_string();
                 assert!(err.contains("declared shape"), "{err}");
