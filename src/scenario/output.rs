@@ -733,9 +733,9 @@ mod tests {
     fn a_file_system_root_is_not_an_output_folder() {
         let err = OutputSet::new("/").err().map(|e| e.to_string());
         assert!(
-            err.as_deref().is_some_and(|e| e.contains("not an output folder")),
+            err.as_deref()
+                .is_some_and(|e| e.contains("not an output folder")),
             "{err:?}"
         );
     }
-
 }
