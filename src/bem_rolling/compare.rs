@@ -279,8 +279,7 @@ pub fn compare(
         )));
     }
     let fs = model.sample_rate;
-    let segment_len = segment.unwrap_or_else(|| rolling::default_segment_len(n));
-    let resolved_from = 2.0 * fs / segment_len as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
+    let resolved_from = rolling::resolved_from(fs, rolling::effective_segment_len(n, segment));
     let forces = |x: &[f64]| third_octave_policy(x, fs, reference_force, segment);
     let microns = |x: &[f64]| third_octave_policy(x, fs, 1e-6, segment);
     let total = signal(

@@ -97,6 +97,46 @@ fn coordinate(key: &str, value: f64) -> Result<(), ScenarioError> {
     in_range(key, value, [-MAX_COORDINATE, MAX_COORDINATE], false, "m")
 }
 
+/// The grid spacing of a `[texture] file` (from its header, sidecar or
+/// member), held to the range `[texture.synth] spacing` is: a file saying
+/// 1e30 m per point otherwise fails much later as a solver that does not
+/// converge.
+pub(crate) fn texture_file_spacing(
+    path: &std::path::Path,
+    dx: f64,
+    dy: f64,
+) -> Result<(), ScenarioError> {
+    for (axis, d) in [("dx", dx), ("dy", dy)] {
+        size(
+            &format!("[texture] file {} spacing {axis}", path.display()),
+            d,
+        )?;
+    }
+    Ok(())
+}
+
+/// Refuses a thread count above [`THREAD_OVERSUBSCRIPTION`] × the cores
+/// (0 means every core): thousands of threads on a few cores only thrash,
+/// and the count is read from files and command lines alike. `key` names
+/// where it came from (`"[rolling] threads"`, `"--threads"`).
+///
+/// # Errors
+/// [`ScenarioError::Invalid`] naming `key`, the value and the range.
+pub fn check_threads(key: &str, n: usize) -> Result<usize, ScenarioError> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if n > THREAD_OVERSUBSCRIPTION * cores {
+        return Err(bad(
+            key,
+            n,
+            &format!(
+                "0 (every core) to {} ({THREAD_OVERSUBSCRIPTION} × the {cores} cores)",
+                THREAD_OVERSUBSCRIPTION * cores
+            ),
+        ));
+    }
+    Ok(n)
+}
+
 /// An output name must be a plain file name: it becomes the stem of files
 /// inside the output folder and must not lead out of it.
 pub fn check_name(name: &str) -> Result<(), ScenarioError> {
@@ -447,17 +487,7 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
         )?;
     }
     if let Some(n) = r.threads {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        if n > THREAD_OVERSUBSCRIPTION * cores {
-            return Err(bad(
-                "[rolling] threads",
-                n,
-                &format!(
-                    "0 (every core) to {} ({THREAD_OVERSUBSCRIPTION} × the {cores} cores)",
-                    THREAD_OVERSUBSCRIPTION * cores
-                ),
-            ));
-        }
+        check_threads("[rolling] threads", n)?;
     }
     if let Some(k) = r.chunks
         && !(1.0..=steps).contains(&(k as f64))

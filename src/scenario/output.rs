@@ -58,10 +58,22 @@ impl OutputSet {
     /// A set that will land in `dir` (created when missing).
     ///
     /// # Errors
-    /// [`ScenarioError::Io`] if `dir` or the staging directory cannot be
-    /// created.
+    /// [`ScenarioError::Io`] if `dir` is a file system root, or `dir` or
+    /// the staging directory cannot be created.
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, ScenarioError> {
         let dir = dir.into();
+        // A run's folder is its own: `--out /` would scatter its files and
+        // staging directories over the root of the file system.
+        if std::path::absolute(&dir).is_ok_and(|d| d.parent().is_none()) {
+            return Err(ScenarioError::Io {
+                action: "writing outputs into",
+                path: dir,
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "a file system root is not an output folder: give a folder of its own",
+                ),
+            });
+        }
         swap::prepare(&dir)?;
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
         remove_stale_staging(&dir)?;
@@ -713,5 +725,17 @@ mod tests {
             vec![1.5, 2.5, 3.0]
         );
         assert_eq!(member("status").into_vec::<i64>().unwrap(), vec![0, 0, 0]);
+    }
+
+    /// `--out /` is refused before anything is created (a run once wrote
+    /// its files and manifest into the root of the file system).
+    #[test]
+    fn a_file_system_root_is_not_an_output_folder() {
+        let err = OutputSet::new("/").err().map(|e| e.to_string());
+        assert!(
+            err.as_deref()
+                .is_some_and(|e| e.contains("not an output folder")),
+            "{err:?}"
+        );
     }
 }

@@ -426,6 +426,15 @@ fn npy_window_road(
     let Some(path) = npy_file(texture, options) else {
         return Ok(None);
     };
+    // Before the open pass over the whole file, which a spacing of 1e30 m
+    // would only make slow and useless.
+    let (dx, dy) = crate::texture::io::npy::sidecar_spacing(&path).map_err(|source| {
+        ScenarioError::Texture {
+            context: format!("[texture] reading {}", path.display()),
+            source,
+        }
+    })?;
+    super::check::texture_file_spacing(&path, dx, dy)?;
     Ok(Some(NpyTextureRoad::open(
         &path,
         material,
@@ -698,10 +707,8 @@ pub(super) fn spectra_of(
     };
     // Bridged already: a second copy would only repeat it.
     let levels = third_octave(&primary, primary_reference)?;
-    let segment = spec
-        .segment
-        .unwrap_or_else(|| rolling::default_segment_len(primary.len()));
-    let resolved_from = 2.0 * fs / segment as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05));
+    let segment = rolling::effective_segment_len(primary.len(), spec.segment);
+    let resolved_from = rolling::resolved_from(fs, segment);
     let sensors = (0..config.sensors.len())
         .map(|k| match signals.sensors.get(k) {
             Some(signal) => spectrum(signal, reference),

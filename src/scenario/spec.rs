@@ -180,10 +180,13 @@ impl TextureSpec {
         match (&self.file, &self.synth) {
             (Some(file), None) => {
                 let path = base_dir.join(file);
-                tyreroad_texture::read_any(&path).map_err(|source| ScenarioError::Texture {
-                    context: format!("[texture] reading {}", path.display()),
-                    source,
-                })
+                let map =
+                    tyreroad_texture::read_any(&path).map_err(|source| ScenarioError::Texture {
+                        context: format!("[texture] reading {}", path.display()),
+                        source,
+                    })?;
+                super::check::texture_file_spacing(&path, map.dx(), map.dy())?;
+                Ok(map)
             }
             (None, Some(synth)) => synth.height_map(),
             (Some(_), Some(_)) => Err(ScenarioError::Invalid(

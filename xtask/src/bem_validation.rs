@@ -32,7 +32,7 @@ pub fn run(
     let cmp = bem_comparison(scenario, statics)?;
     let ids = scenario.ids();
     let grid = &cmp.grid;
-    println!(
+    say!(
         "\nBEM reference: true spherical caps, {}×{} cells of {} mm ({:.1} × {:.1} mm), \
          tolerance 1e-8, per-ball forces from the Voronoi regions of the summits; \
          set-up {:.2} s",
@@ -45,9 +45,7 @@ pub fn run(
     );
     let mut checks = Vec::new();
     let (mut bem_rows, mut two_rows) = (Vec::new(), Vec::new());
-    println!(
-        "Multipoint model vs BEM, relative per-ball differences |Δ|/BEM (max at indenter, mean):"
-    );
+    say!("Multipoint model vs BEM, relative per-ball differences |Δ|/BEM (max at indenter, mean):");
     for l in &cmp.loads {
         let (load, b, ts) = (l.load, &l.bem, &l.two_scale);
         let mp = statics.at_load(load);
@@ -58,7 +56,7 @@ pub fn run(
         let (rmax, rmean, rk) = differences(&mp_radii, &b.radii);
         let (tmax, tmean, tk) = differences(&ts_radii, &b.radii);
         let mp_approach = l.model_approach;
-        println!(
+        say!(
             "  {load:>5} N: BEM {} it. {:.2} s, δ {:.4} mm (model {:.4} mm, {:+.2} %) | \
              forces max {:.2} % (#{}) mean {:.2} % | radii, Hertz rebuild: max {:.2} % (#{}) mean {:.2} % | \
              radii, two-scale: max {:.2} % (#{}) mean {:.2} %",
@@ -118,7 +116,7 @@ pub fn run(
             });
         }
     }
-    println!(
+    say!(
         "  two-scale local solves: {:.2} s for {} loads",
         cmp.two_scale_seconds,
         cmp.loads.len()
@@ -126,16 +124,22 @@ pub fn run(
 
     let shown = cmp.shown_load().context("no load")?;
     let load = shown.load;
-    println!(
+    say!(
         "\nAt {load} N, per indenter: forces (N) and radii (mm): model (Hertz rebuild), two-scale, BEM"
     );
-    println!(
+    say!(
         "{:>9} {:>8} {:>8} {:>8} | {:>7} {:>7} {:>7}",
-        "indenter", "P model", "P BEM", "ΔP %", "a Hertz", "a 2-sc", "a BEM"
+        "indenter",
+        "P model",
+        "P BEM",
+        "ΔP %",
+        "a Hertz",
+        "a 2-sc",
+        "a BEM"
     );
     let (b, ts) = (&shown.bem, &shown.two_scale);
     for (k, r) in statics.at_load(load).iter().enumerate() {
-        println!(
+        say!(
             "{:>9} {:>8.3} {:>8.3} {:>+8.2} | {:>7.3} {:>7.3} {:>7.3}",
             r.id,
             r.force,

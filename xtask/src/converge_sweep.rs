@@ -97,10 +97,10 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
         t.elapsed().as_secs_f64()
     );
     let base_config = scenario.rolling_config()?;
-    println!(
+    say!(
         "| step (mm) | load (N) | steps | converged | stagnated | failed | recovered by clusters | other recoveries | s |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    say!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut totals = Vec::new();
     let mut failed_total = 0;
     for &step in &steps {
@@ -124,7 +124,7 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
                 !matches!(s.recovery, Recovery::None | Recovery::Clustered)
                     && s.status != StepStatus::Failed
             });
-            println!(
+            say!(
                 "| {} | {load} | {} | {conv} | {stag} | {fail} | {clus} | {other} | {dt:.1} |",
                 step * 1e3,
                 result.steps.len()
@@ -137,11 +137,11 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
         totals.push((step, n, failed, clustered, seconds));
         failed_total += failed;
     }
-    println!();
-    println!("| step (mm) | runs | steps | failed | recovered by clusters | s |");
-    println!("|---:|---:|---:|---:|---:|---:|");
+    say!();
+    say!("| step (mm) | runs | steps | failed | recovered by clusters | s |");
+    say!("|---:|---:|---:|---:|---:|---:|");
     for (step, n, failed, clustered, seconds) in totals {
-        println!(
+        say!(
             "| {} | {} | {n} | {failed} | {clustered} | {seconds:.1} |",
             step * 1e3,
             loads.len()

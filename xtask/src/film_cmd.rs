@@ -260,7 +260,7 @@ pub fn run(args: &FilmArgs) -> Result<()> {
     set.write(&format!("{stem}-annotated.png"), &png)?;
     let written = set.commit()?;
 
-    println!(
+    say!(
         "{}: {} prints ({} matched, {} stray), threshold grey {:.4}, background {:.4}, pixel {:.3e} m",
         args.scan.display(),
         det.prints.len(),
@@ -272,11 +272,11 @@ pub fn run(args: &FilmArgs) -> Result<()> {
     );
     let saturated: usize = det.prints.iter().map(|p| p.saturated_pixels).sum();
     if saturated > 0 {
-        println!("warning: {saturated} saturated pixels: forces there are lower bounds");
+        say!("warning: {saturated} saturated pixels: forces there are lower bounds");
     }
     if let Some(c) = &comparison {
         let t = &c.table1;
-        println!(
+        say!(
             "load {} N, {} indenters ({:?}): mean |eps_P| = {:.1} % +- {:.1} %, mean |eps_a| = {:.1} % +- {:.1} %",
             t.load_n,
             t.indenters,
@@ -288,7 +288,7 @@ pub fn run(args: &FilmArgs) -> Result<()> {
         );
     }
     for w in &written {
-        println!("wrote {}", w.display());
+        say!("wrote {}", w.display());
     }
     Ok(())
 }

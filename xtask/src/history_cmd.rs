@@ -44,12 +44,15 @@ pub fn run(args: &HistoryArgs) -> Result<()> {
 /// Prints the steps, writes `history.csv` into `out` (whole, or not at
 /// all), and fails after writing when the history stopped early.
 pub fn report(result: &HistoryResult, out: &std::path::Path) -> Result<()> {
-    println!(
+    say!(
         "{:>12} {:>12} {:>14} {:>9}",
-        "time (ms)", "load (N)", "approach (mm)", "receding"
+        "time (ms)",
+        "load (N)",
+        "approach (mm)",
+        "receding"
     );
     for s in &result.steps {
-        println!(
+        say!(
             "{:>12.4} {:>12.4} {:>14.6} {:>9}",
             1e3 * s.time,
             s.load,
@@ -58,12 +61,12 @@ pub fn report(result: &HistoryResult, out: &std::path::Path) -> Result<()> {
         );
     }
     if let Some(failure) = &result.failure {
-        println!("stopped early: {failure}");
+        say!("stopped early: {failure}");
     }
     let mut set = OutputSet::new(out)?;
     write_history_csv(result, &mut set)?;
     for path in set.commit()? {
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     if result.failure.is_some() {
         anyhow::bail!("the history stopped before its end (outputs written)");

@@ -22,6 +22,25 @@
 //!   viscoelastic rolling runs against speed and temperature, a table and
 //!   charts of the overall and band levels.
 
+/// `println!` that a closed stdout does not stop: `xtask run … | head`
+/// closes the pipe after a line, and `println!` would panic there and lose
+/// the run; what is printed is a report, the run's files are the result.
+macro_rules! say {
+    () => {
+        $crate::print_to_stdout(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::print_to_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `print!` as [`say!`] is `println!`.
+macro_rules! say_part {
+    ($($arg:tt)*) => {
+        $crate::print_to_stdout(format_args!($($arg)*))
+    };
+}
+
 mod bem_validation;
 mod charts;
 mod converge_sweep;
@@ -162,4 +181,20 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
     };
     statics::print_written(&set.commit()?);
     fallbacks.finish(strict)
+}
+
+/// `--threads N`: a count within the range a scenario's `[rolling] threads`
+/// accepts (`tyreroad::scenario::check_threads`).
+fn parse_threads(text: &str) -> Result<usize, String> {
+    let n: usize = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a thread count (0 for every core)"))?;
+    tyreroad::scenario::check_threads("--threads", n).map_err(|e| e.to_string())
+}
+
+/// Writes to stdout, ignoring a closed pipe (see [`say!`]).
+fn print_to_stdout(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_fmt(args);
 }

@@ -26,10 +26,11 @@ pub struct RollingBemArgs {
     #[arg(long)]
     pub segment: Option<usize>,
     /// Threads of both runs (0: every core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::parse_threads)]
     pub threads: usize,
-    /// Relative tolerance of each BEM step.
-    #[arg(long, default_value_t = 1e-7)]
+    /// Relative tolerance of each BEM step (within the range a scenario's
+    /// `[solver] tolerance` accepts).
+    #[arg(long, default_value_t = 1e-7, value_parser = parse_tolerance)]
     pub tolerance: f64,
     /// A viscoelastic tread `E_INF,E1@TAU1,E2@TAU2,...` (Pa, s): run the
     /// viscoelastic rolling BEM and the elastic one at its two limit
@@ -47,7 +48,7 @@ pub struct RollingBemArgs {
     /// Is the BEM reference converged? Solve the stretch by the BEM alone
     /// on the texture's grid and on one this many times finer
     /// (`rolling_bem_refine`), instead of the comparison.
-    #[arg(long, conflicts_with = "viscoelastic")]
+    #[arg(long, conflicts_with = "viscoelastic", value_parser = parse_refinement)]
     pub refine: Option<usize>,
     /// The model's fidelity (`wilke` or `calibrated`), instead of the
     /// scenario's `[model] fidelity`.
@@ -62,7 +63,7 @@ pub struct RollingBemArgs {
 
 /// One row of the comparison table: per-step and band errors of a signal.
 pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
-    println!(
+    say!(
         "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
         label,
         100.0 * s.max_error,
@@ -70,4 +71,27 @@ pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
         s.max_band_db(),
         s.max_resolved_band_db()
     );
+}
+
+/// `--tolerance`: a reference solved looser than the model it judges
+/// would judge nothing; the same range as `[solver] tolerance`.
+fn parse_tolerance(text: &str) -> Result<f64, String> {
+    let [lo, hi] = tyreroad::scenario::TOLERANCE_RANGE;
+    match text.trim().parse::<f64>() {
+        Ok(t) if (lo..=hi).contains(&t) => Ok(t),
+        _ => Err(format!(
+            "`{text}`: expected a relative tolerance in [{lo:e}, {hi:e}]"
+        )),
+    }
+}
+
+/// `--refine F`: a grid F times finer, F ≥ 2 (1 would compare the grid
+/// with itself, and print 0/0; a grid too large is the library's refusal).
+fn parse_refinement(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(f) if f >= 2 => Ok(f),
+        _ => Err(format!(
+            "`{text}`: expected a refinement factor of 2 or more"
+        )),
+    }
 }

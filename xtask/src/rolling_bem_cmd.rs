@@ -41,12 +41,21 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     if args.elastic {
         scenario.material.viscoelastic = None;
     } else if scenario.material.viscoelastic.is_some() {
+        if let Some(dir) = &args.bem_from {
+            // The viscoelastic BEM's signals are not saved in a form this
+            // reads back: solving it again silently would hide the flag.
+            anyhow::bail!(
+                "--bem-from {}: reading the BEM back is for elastic comparisons; \
+                 this scenario has [material.viscoelastic] (add --elastic, or drop --bem-from)",
+                dir.display()
+            );
+        }
         return crate::rolling_visco_bem_cmd::run_comparison(args, scenario);
     }
     if let (Some(speed), Some(spec)) = (args.speed, scenario.rolling.as_mut()) {
         spec.speed = tyreroad::scenario::units::Speed::si(speed);
     }
-    println!(
+    say!(
         "model fidelity: {}{}",
         scenario.model.fidelity()?,
         if args.bem_from.is_some() {
@@ -81,7 +90,7 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     let mut set = OutputSet::new(&args.out)?;
     write_outputs(&run, &mut set)?;
     for path in set.commit()? {
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }
@@ -89,14 +98,14 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
 fn print_report(name: &str, run: &BemRollingRun) {
     let c = &run.comparison;
     let (nx, ny, dx) = run.road_grid;
-    println!(
+    say!(
         "{name}: {} steps; texture {nx} × {ny} at {:.3} mm; BEM window {} × {} cells",
         c.steps,
         dx * 1e3,
         run.bem.window.0,
         run.bem.window.1
     );
-    println!(
+    say!(
         "time: multipoint {:.1} s, BEM {:.1} s ({} CG iterations, {} failed steps); multipoint failed steps: {}",
         run.multipoint_time.as_secs_f64(),
         run.bem_time.as_secs_f64(),
@@ -107,7 +116,7 @@ fn print_report(name: &str, run: &BemRollingRun) {
     if let tyreroad::scenario::RoadSummary::Texture(t) = &run.multipoint.road
         && let Some(cal) = &t.calibration
     {
-        println!(
+        say!(
             "calibrated laws: {} of the road's {} asperities, {} tables solved ({} read from disk), to {:.3} mm approach, {:.1} s (in the multipoint time)",
             cal.asperities,
             t.asperities,
@@ -117,13 +126,17 @@ fn print_report(name: &str, run: &BemRollingRun) {
             cal.time.as_secs_f64()
         );
     }
-    println!(
+    say!(
         "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
         c.resolved_from
     );
-    println!(
+    say!(
         "{:<22} {:>12} {:>12} {:>14} {:>14}",
-        "signal", "max err %", "rms err %", "max |ΔdB| all", "max |ΔdB| res."
+        "signal",
+        "max err %",
+        "rms err %",
+        "max |ΔdB| all",
+        "max |ΔdB| res."
     );
     let row = print_report_row;
     row("total force", &c.total);
@@ -147,7 +160,7 @@ fn print_report(name: &str, run: &BemRollingRun) {
             row(&format!("{} (summit gaps)", s.name), s);
         }
     }
-    println!("band levels (dB), model fields / model summits / model summit gaps / BEM:");
+    say!("band levels (dB), model fields / model summits / model summit gaps / BEM:");
     for (k, s) in c.sensors.iter().enumerate() {
         let summit = &c.sensors_summit[k];
         let gaps = g.map(|g| &g.sensors[k].bands);
@@ -169,7 +182,7 @@ fn print_report(name: &str, run: &BemRollingRun) {
                 )
             })
             .collect();
-        println!("  {}: {}", s.name, cells.join("  "));
+        say!("  {}: {}", s.name, cells.join("  "));
     }
 }
 

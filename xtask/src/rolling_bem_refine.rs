@@ -60,7 +60,7 @@ pub fn run(args: &RollingBemArgs, factor: usize) -> Result<()> {
             ..BemRollingOptions::default()
         },
     )?;
-    println!(
+    say!(
         "{name}: {} steps by the BEM at {:.4} mm and {:.4} mm ({:?} refinement), windows {:?} and {:?}, {:.1} s; failed steps {} / {}",
         run.coarse.steps.len(),
         run.cells.0 * 1e3,
@@ -79,7 +79,7 @@ pub fn run(args: &RollingBemArgs, factor: usize) -> Result<()> {
     for s in &sensors {
         header.push_str(&format!(" {:>24}", format!("{s} (N) c / f")));
     }
-    println!("{header}");
+    say!("{header}");
     let mut rows = Vec::new();
     for (c, f) in run.coarse.steps.iter().zip(&run.fine.steps) {
         let mut line = format!(
@@ -102,19 +102,19 @@ pub fn run(args: &RollingBemArgs, factor: usize) -> Result<()> {
                 sensor_fine_n: ff,
             });
         }
-        println!("{line}");
+        say!("{line}");
     }
-    println!(
+    say!(
         "largest change, fine − coarse, over the coarse peak: approach {:.2} %",
         100.0 * run.approach_change()
     );
     for (k, s) in sensors.iter().enumerate() {
-        println!("  {s}: {:.2} %", 100.0 * run.sensor_change(k));
+        say!("  {s}: {:.2} %", 100.0 * run.sensor_change(k));
     }
     let mut set = OutputSet::new(&args.out)?;
     set.write_csv("rolling_bem_refine.csv", &rows)?;
     for path in set.commit()? {
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

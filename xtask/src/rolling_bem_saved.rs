@@ -85,9 +85,54 @@ pub fn read(dir: &Path, scenario: &Scenario) -> Result<BemRollingResult> {
         };
         step.sensor_forces[k] = number(&row, "bem_n", &sensors_path)?;
     }
+    check_complete(&steps, scenario, &steps_path, &sensors_path)?;
     Ok(BemRollingResult {
         steps,
         sample_rate: config.speed / config.step,
         window: (0, 0),
     })
+}
+
+/// A saved run is whole: every step's position, time and (for a converged
+/// step) force, approach and area are finite, and every converged step has
+/// every sensor's force. A truncated or edited file would otherwise turn
+/// into NaN samples that the comparison's maxima and band levels skip.
+fn check_complete(
+    steps: &[BemStep],
+    scenario: &Scenario,
+    steps_path: &Path,
+    sensors_path: &Path,
+) -> Result<()> {
+    let config = scenario.rolling_config()?;
+    if steps.is_empty() {
+        bail!("{}: no steps", steps_path.display());
+    }
+    for s in steps {
+        if !(s.position.is_finite() && s.time.is_finite()) {
+            bail!(
+                "{}: step {} has no finite position or time",
+                steps_path.display(),
+                s.index
+            );
+        }
+        if s.status != StepStatus::Converged {
+            continue;
+        }
+        if !(s.approach.is_finite() && s.contact_area.is_finite()) {
+            bail!(
+                "{}: step {} has a force but no finite approach or contact area",
+                steps_path.display(),
+                s.index
+            );
+        }
+        if let Some(k) = s.sensor_forces.iter().position(|f| !f.is_finite()) {
+            bail!(
+                "{}: step {} has no finite force for sensor {:?} (a truncated or edited file?)",
+                sensors_path.display(),
+                s.index,
+                config.sensors[k].name
+            );
+        }
+    }
+    Ok(())
 }

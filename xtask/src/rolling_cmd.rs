@@ -129,7 +129,7 @@ fn stream_records(run: &RollingRun, set: &mut OutputSet) -> Result<StepSignals> 
 
 fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallbacks> {
     match run.road {
-        RoadSummary::Texture(t) => println!(
+        RoadSummary::Texture(t) => say!(
             "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
             t.extent.0,
             t.extent.1,
@@ -138,13 +138,13 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
             t.asperities,
             t.segmented
         ),
-        RoadSummary::Synthetic { count } => println!("synthetic road: {count} spherical summits"),
+        RoadSummary::Synthetic { count } => say!("synthetic road: {count} spherical summits"),
         RoadSummary::Asperities { .. } => {}
     }
     if let RoadSummary::Texture(t) = &run.road
         && let Some(cal) = &t.calibration
     {
-        println!(
+        say!(
             "calibrated laws: {} asperities the path can select, {} tables solved, {} read from disk, {:.1} s",
             cal.asperities,
             cal.tables,
@@ -155,14 +155,14 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
     let signals = run.signals;
     let total = signals.len();
     if run.resumed > 0 {
-        println!(
+        say!(
             "resumed {} of {total} steps from {}",
             run.resumed,
             out.join("checkpoint").display()
         );
     }
     if signals.min_clearance <= 0.0 {
-        println!(
+        say!(
             "warning: at some steps the approach exceeds the tread profile at the selection \
              boundary (clearance {:.3e} m): widen the footprint or the margin",
             signals.min_clearance
@@ -170,16 +170,16 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
     }
     let (overlapping_steps, most) = (signals.overlapping_steps, signals.most_overlapping);
     if overlapping_steps > 0 {
-        println!(
+        say!(
             "note: at {overlapping_steps} of {total} steps some contact patches overlap (up to \
              {most} pairs, column n_overlapping): the point-force coupling does not hold there"
         );
     }
     let [converged, stagnated, failed] = signals.status_counts();
-    println!("steps: {converged} converged, {stagnated} stagnated, {failed} failed");
+    say!("steps: {converged} converged, {stagnated} stagnated, {failed} failed");
     let spectra = run.spectra;
     if failed > 0 {
-        println!(
+        say!(
             "warning: {failed} of {total} steps failed (NaN in time_signals.csv, status \
              column; no contacts in steps.npz): the spectra bridge {} failed samples by \
              linear interpolation",
@@ -188,7 +188,7 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
     }
     if spectra.has_unresolved_bands() {
         let fs = run.sample_rate;
-        println!(
+        say!(
             "note: with {}-sample Welch segments (Δf = {:.1} Hz) the bands below \
              {:.0} Hz are not resolved: roll a longer path for them",
             spectra.segment,
@@ -198,7 +198,7 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
     }
     write_end(run, &mut set)?;
     set.commit()?;
-    println!(
+    say!(
         "rolling: {} steps, fs = {:.1} Hz, written to {}",
         total,
         run.sample_rate,
@@ -313,7 +313,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
             ms(&mut signals.total_force.iter().copied()),
         )
     };
-    line_chart(
+    time_chart(
         set,
         "time_signals",
         &format!("{name} against time"),
@@ -324,7 +324,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
             points: main,
         }],
     )?;
-    line_chart(
+    time_chart(
         set,
         "contact_area",
         "contact area against time",
@@ -345,7 +345,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
                 points: ms(&mut signals.sensors[k].iter().copied()),
             })
             .collect();
-        line_chart(
+        time_chart(
             set,
             "sensors",
             "sensor forces",
@@ -377,7 +377,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
     // A band without power has no level (−∞ dB): its curve is left out, and
     // said so, rather than the whole chart failing for want of data.
     for s in series.iter().filter(|s| s.points.is_empty()) {
-        println!(
+        say!(
             "note: {} has no power in any band (no force at all): its levels are empty in the \
              CSV files and it has no curve in third_octave.svg",
             s.label
@@ -385,7 +385,7 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
     }
     series.retain(|s| !s.points.is_empty());
     if series.is_empty() {
-        println!("note: third_octave.svg/png not drawn: no band has power (nothing touched)");
+        say!("note: third_octave.svg/png not drawn: no band has power (nothing touched)");
         return Ok(());
     }
     line_chart(
@@ -397,6 +397,24 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
         &series,
     )?;
     Ok(())
+}
+
+/// A chart against time, or a note instead when no step has a finite
+/// value to draw (every step failed): the run's files are written all the
+/// same, and the failed steps are in them as NaN.
+fn time_chart(
+    set: &mut OutputSet,
+    name: &str,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<()> {
+    if series.iter().all(|s| s.points.is_empty()) {
+        say!("note: {name}.svg/png not drawn: no step has a finite value to draw");
+        return Ok(());
+    }
+    line_chart(set, name, title, x_label, y_label, series)
 }
 
 #[cfg(test)]
@@ -481,6 +499,24 @@ mod tests {
         std::fs::remove_dir_all(&out)?;
         Ok(())
     }
+    /// A run whose every step failed has no finite value to draw: its
+    /// time charts are left out with a note, so the run still writes its
+    /// files (they once ended with the chart's "no data" and nothing).
+    #[test]
+    fn a_time_chart_without_a_finite_point_is_a_note_not_an_error() -> Result<()> {
+        let out = std::env::temp_dir().join(format!("tyreroad-nan-chart-{}", std::process::id()));
+        let mut set = OutputSet::new(&out)?;
+        let empty = [Series {
+            label: "approach".into(),
+            points: Vec::new(),
+        }];
+        time_chart(&mut set, "time_signals", "t", "x", "y", &empty)?;
+        set.commit()?;
+        assert!(!out.join("time_signals.svg").exists());
+        std::fs::remove_dir_all(&out)?;
+        Ok(())
+    }
+
     #[test]
     fn a_run_where_nothing_touches_writes_its_outputs_and_says_so() -> Result<()> {
         // The tread held 10 mm above the summits: no step has a contact, so

@@ -52,7 +52,7 @@ pub fn run_comparison(args: &RollingBemArgs, scenario: Scenario) -> Result<()> {
     let mut set = OutputSet::new(&args.out)?;
     write_comparison(&run, &mut set)?;
     for path in set.commit()? {
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }
@@ -61,7 +61,7 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
     let c = &run.comparison;
     let config = &run.multipoint.config;
     let (nx, ny, dx) = run.road_grid;
-    println!(
+    say!(
         "{name} (viscoelastic, E_inf {:.3} MPa, E_0 {:.3} MPa): {} steps at {} m/s (Δt = {:.3e} s); \
          texture {nx} × {ny} at {:.3} mm; BEM window {} × {} cells",
         run.tread.long_term() * 1e-6,
@@ -73,7 +73,7 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
         run.bem.window.0,
         run.bem.window.1
     );
-    println!(
+    say!(
         "time: multipoint {:.1} s, BEM {:.1} s ({} CG iterations, {} failed steps); multipoint failed steps: {}",
         run.multipoint_time.as_secs_f64(),
         run.bem_time.as_secs_f64(),
@@ -81,14 +81,18 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
         run.bem.failed(),
         run.multipoint.result.status_counts()[2]
     );
-    println!(
+    say!(
         "mean approach: multipoint {:.5} mm, BEM {:.5} mm",
         1e3 * mean(&run.multipoint.result.approach()),
         1e3 * mean(&run.bem.approach())
     );
-    println!(
+    say!(
         "{:<22} {:>12} {:>12} {:>14} {:>14}",
-        "signal", "max err %", "rms err %", "max |ΔdB| all", "max |ΔdB| res."
+        "signal",
+        "max err %",
+        "rms err %",
+        "max |ΔdB| all",
+        "max |ΔdB| res."
     );
     print_report_row("total force", &c.total);
     print_report_row("approach", &c.approach);
@@ -283,7 +287,7 @@ pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
         ("E_inf", &relaxed),
         ("E_0", &glassy),
     ];
-    println!(
+    say!(
         "{}: {} steps at {} m/s (Δt = {:.3e} s), BEM window {} × {} cells, viscoelastic run {visco_time:.1} s, {} failed steps",
         scenario.name,
         visco.steps.len(),
@@ -293,12 +297,14 @@ pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
         visco.window.1,
         visco.failed()
     );
-    println!(
+    say!(
         "{:<14} {:>16} {:>16}",
-        "run", "mean force (N)", "mean approach (mm)"
+        "run",
+        "mean force (N)",
+        "mean approach (mm)"
     );
     for (label, r) in runs {
-        println!(
+        say!(
             "{label:<14} {:>16.4} {:>16.5}",
             mean(&r.total_force()),
             1e3 * mean(&r.approach())
@@ -307,7 +313,7 @@ pub fn run(args: &RollingBemArgs, tread: &str) -> Result<()> {
     let mut set = OutputSet::new(&args.out)?;
     write_outputs(&runs, &config.sensors, segment, &mut set)?;
     for path in set.commit()? {
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

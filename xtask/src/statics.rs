@@ -81,12 +81,16 @@ pub fn write_static_csv(set: &mut OutputSet, file: &str, rows: &[StaticRow]) -> 
 /// Prints one line per load.
 pub fn print_runs(runs: &[LoadRun]) {
     for r in runs {
-        println!(
+        say!(
             "load {} N: Σ P = {:.9} N, δ0 = {:.6e} m, {} contacts, {} iterations",
-            r.load, r.total, r.approach, r.contacts, r.iterations
+            r.load,
+            r.total,
+            r.approach,
+            r.contacts,
+            r.iterations
         );
         if r.overlapping > 0 {
-            println!(
+            say!(
                 "  note: {} pairs of contacts overlap: the point-force coupling \
                  does not hold there",
                 r.overlapping
@@ -98,7 +102,7 @@ pub fn print_runs(runs: &[LoadRun]) {
 /// Prints the loads that did not converge; returns how many.
 pub fn print_failed_loads(failed: &[(f64, String)]) -> usize {
     for (load, why) in failed {
-        println!("load {load} N: FAILED, not written: {why}");
+        say!("load {load} N: FAILED, not written: {why}");
     }
     failed.len()
 }
@@ -106,7 +110,7 @@ pub fn print_failed_loads(failed: &[(f64, String)]) -> usize {
 /// Prints the staged files' final paths.
 pub fn print_written(written: &[std::path::PathBuf]) {
     for w in written {
-        println!("written {}", w.display());
+        say!("written {}", w.display());
     }
 }
 
@@ -116,20 +120,20 @@ pub fn print_table(rows: &[StaticRow]) {
     let Some(&first_load) = loads.first() else {
         return;
     };
-    print!("{:>9} {:>7} {:>7} |", "indenter", "x (mm)", "y (mm)");
+    say_part!("{:>9} {:>7} {:>7} |", "indenter", "x (mm)", "y (mm)");
     for l in &loads {
-        print!(" {:>8} {:>7} |", format!("P@{l:.0}N"), "a (mm)");
+        say_part!(" {:>8} {:>7} |", format!("P@{l:.0}N"), "a (mm)");
     }
-    println!();
+    say!();
     let first: Vec<&StaticRow> = rows.iter().filter(|r| r.load == first_load).collect();
     for (k, r0) in first.iter().enumerate() {
-        print!("{:>9} {:>7.1} {:>7.1} |", r0.id, r0.x * 1e3, r0.y * 1e3);
+        say_part!("{:>9} {:>7.1} {:>7.1} |", r0.id, r0.x * 1e3, r0.y * 1e3);
         for l in &loads {
             let r = rows.iter().filter(|r| r.load == *l).nth(k);
             if let Some(r) = r {
-                print!(" {:>8.3} {:>7.3} |", r.force, r.radius * 1e3);
+                say_part!(" {:>8.3} {:>7.3} |", r.force, r.radius * 1e3);
             }
         }
-        println!();
+        say!();
     }
 }

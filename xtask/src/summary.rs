@@ -111,7 +111,7 @@ impl Fallbacks {
     /// With `strict`, when any item fell back (the outputs are written).
     pub fn finish(&self, strict: bool) -> Result<()> {
         for line in self.lines() {
-            println!("{line}");
+            say!("{line}");
         }
         if strict && self.len() > 0 {
             anyhow::bail!(

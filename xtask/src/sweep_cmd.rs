@@ -27,7 +27,7 @@ pub struct SweepArgs {
     #[arg(long, default_value = "sweep")]
     pub out: PathBuf,
     /// Worker threads on one machine (0: every core); ignored with `--mpi`.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::parse_threads)]
     pub threads: usize,
     /// Distribute the runs over MPI ranks (needs `--features mpi`).
     #[arg(long)]
@@ -80,14 +80,14 @@ fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
     set.write("sweep.csv", table_csv(rows).as_bytes())?;
     set.commit()?;
     let failed = rows.iter().filter(|r| r.outcome.is_err()).count();
-    println!(
+    say!(
         "sweep: {} runs ({failed} failed), table {}",
         rows.len(),
         out.join("sweep.csv").display()
     );
     for r in rows {
         if let Err(e) = &r.outcome {
-            println!("  run {}: {e}", r.index);
+            say!("  run {}: {e}", r.index);
         }
     }
     Ok(())

@@ -163,7 +163,7 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
                 anyhow::bail!("--baseline {b}: {e}");
             }
             for line in info_lines(&map, *baseline) {
-                println!("{line}");
+                say!("{line}");
             }
             Ok(())
         }
@@ -222,9 +222,9 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
             let ty = parse_type(&grid.data_type)?;
             texture::io::x3p::write_x3p(&map, &grid.out, ty)
                 .with_context(|| format!("writing {}", grid.out.display()))?;
-            println!("wrote {}", grid.out.display());
+            say!("wrote {}", grid.out.display());
             for line in info_lines(&map, None) {
-                println!("{line}");
+                say!("{line}");
             }
             Ok(())
         }

@@ -60,7 +60,7 @@ struct TwoScaleRow {
 pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet) -> Result<usize> {
     let mut fallbacks = 0;
     let t = &r.texture;
-    println!(
+    say!(
         "texture {} × {} at {:.3} × {:.3} mm: {} asperities ({} segmented, {} without depth range)",
         t.size.0,
         t.size.1,
@@ -78,7 +78,7 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
     let mut summary = Vec::new();
     let mut local = Vec::new();
     for (run, per_load) in r.statics.runs.iter().zip(&r.loads) {
-        println!(
+        say!(
             "load {} N: Σ P = {:.9} N, δ0 = {:.6e} m, {} contacts of {}, {} iterations",
             run.load,
             run.total,
@@ -96,7 +96,7 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
             overlapping_pairs: run.overlapping,
         });
         if run.overlapping > 0 {
-            println!(
+            say!(
                 "  note: {} pairs of contacts overlap (a_i + a_j > spacing): the multipoint \
                  model's point-force coupling does not hold there (docs/validation.md)",
                 run.overlapping
@@ -116,11 +116,11 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
         }
         for (k, status) in ts.fallbacks() {
             fallbacks += 1;
-            println!("  fallback: indenter {}: {status}", ids[k]);
+            say!("  fallback: indenter {}: {status}", ids[k]);
         }
         if let Some(field) = &ts.map {
             let area: f64 = ts.local.iter().map(|f| f.contact_area).sum();
-            println!(
+            say!(
                 "  two-scale: contact area {:.2} mm², peak {:.2} MPa, map Σ p dA = {:.6} N",
                 area * 1e6,
                 field.max() * 1e-6,
@@ -147,7 +147,7 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
     set.write(&format!("{name}_height_map.npz"), &height_map_npz(&r.map)?)?;
     fallbacks += crate::statics::print_failed_loads(&r.statics.failed_loads);
     if fallbacks > 0 {
-        println!(
+        say!(
             "summary: {fallbacks} asperity fields fell back to a lower-fidelity field (see \
              local_field in {name}_two_scale.csv)"
         );

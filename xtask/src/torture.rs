@@ -168,13 +168,13 @@ pub fn run(only: Option<&str>) -> Result<()> {
             rolling_seconds: t.elapsed().as_secs_f64(),
         });
     }
-    println!(
+    say!(
         "| road kind | asperities (static) | loads converged | two-scale fallbacks | static s | \
          rolling steps converged | rolling s |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|");
+    say!("|---|---:|---:|---:|---:|---:|---:|");
     for r in &rows {
-        println!(
+        say!(
             "| {} | {} | {} | {} | {:.1} | {} | {:.1} |",
             r.kind,
             r.asperities,

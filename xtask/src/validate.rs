@@ -48,7 +48,7 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         ),
     };
     let scenario = Scenario::parse(&text, &origin)?;
-    println!("== {} — {}", scenario.name, scenario.description);
+    say!("== {} — {}", scenario.name, scenario.description);
     let statics = run_static(&scenario)?;
     if let Some((load, why)) = statics.failed_loads.first() {
         bail!("validation: the load {load} N did not converge: {why}");
@@ -56,11 +56,11 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     let (rows, runs) = (&statics.rows, &statics.runs);
     let mut checks = Vec::new();
 
-    println!("\nMultipoint model, forces P (N) and Hertz contact radii a (mm), paper numbering:");
+    say!("\nMultipoint model, forces P (N) and Hertz contact radii a (mm), paper numbering:");
     print_table(rows);
-    println!();
+    say!();
     for r in runs {
-        println!(
+        say!(
             "load {:>6.1} N: Σ P = {:.12} N, approach δ0 = {:.4} mm, {} contacts, \
              {} Newton iterations, residual {:.1e}, {:.2} ms",
             r.load,
@@ -83,8 +83,8 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     checks.push(hertz_check(&scenario)?);
 
     if args.scenario.is_none() {
-        println!();
-        print!(
+        say!();
+        say_part!(
             "{}",
             crate::film_cmd::synthetic_table(&film_rows(rows), None)?
         );
@@ -102,10 +102,10 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         }));
     }
     let written = set.commit()?;
-    println!("\nChecks:");
+    say!("\nChecks:");
     let mut failed = 0;
     for c in &checks {
-        println!(
+        say!(
             "  [{}] {}: {}",
             if c.passed { "ok" } else { "FAIL" },
             c.name,
@@ -113,7 +113,7 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         );
         failed += usize::from(!c.passed);
     }
-    println!("\nWritten:");
+    say!("\nWritten:");
     print_written(&written);
     if failed > 0 {
         bail!("{failed} validation check(s) failed");

@@ -139,7 +139,7 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     let mut report = String::new();
     let mut segmentation = String::new();
     if args.segmentation {
-        println!("\n{SEGMENTATION_HEADER}");
+        say!("\n{SEGMENTATION_HEADER}");
     }
     for (label, body) in kinds {
         let s = scenario(label, body, cells, spacing_mm)?;
@@ -179,13 +179,13 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         }
         // Each road's rows as soon as they exist: a long run that is cut
         // short still leaves its finished roads on the terminal.
-        print!(
+        say_part!(
             "{}",
             tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?
         );
         if args.segmentation {
             let rows = segmentation_rows(label, &map, material, &options)?;
-            print!("{rows}");
+            say_part!("{rows}");
             segmentation.push_str(&rows);
         }
         results.push((*label, c));
@@ -195,8 +195,8 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         writeln!(report, "\n{SEGMENTATION_HEADER}")?;
         report.push_str(&segmentation);
     }
-    println!("\n== all roads ==");
-    print!("{report}");
+    say!("\n== all roads ==");
+    say_part!("{report}");
     let mut set = OutputSet::new(out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);

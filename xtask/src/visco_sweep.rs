@@ -183,7 +183,7 @@ pub fn run(args: &ViscoSweepArgs) -> Result<()> {
         bail!("every run failed");
     }
     print_table(&rows, &names);
-    println!(
+    say!(
         "{} runs in {:.1} s",
         rows.len(),
         started.elapsed().as_secs_f64()
@@ -194,7 +194,7 @@ pub fn run(args: &ViscoSweepArgs) -> Result<()> {
         charts(&mut set, &rows, &names, sweep)?;
     }
     let written = set.commit()?;
-    println!("wrote {} files in {}", written.len(), args.out.display());
+    say!("wrote {} files in {}", written.len(), args.out.display());
     Ok(())
 }
 
@@ -231,18 +231,18 @@ fn signal_names(scenario: &Scenario) -> Vec<String> {
 }
 
 fn print_table(rows: &[Row], names: &[String]) {
-    print!("{:<12} {:>9} {:>8}", "sweep", "km/h", "°C");
+    say_part!("{:<12} {:>9} {:>8}", "sweep", "km/h", "°C");
     for n in names {
-        print!(" {:>14}", format!("{n} dB"));
+        say_part!(" {:>14}", format!("{n} dB"));
     }
-    println!();
+    say!();
     for r in rows {
         let t = r.temperature_c.map_or("-".into(), |t| format!("{t:.1}"));
-        print!("{:<12} {:>9.1} {:>8}", r.sweep, r.speed_kmh, t);
+        say_part!("{:<12} {:>9.1} {:>8}", r.sweep, r.speed_kmh, t);
         for (level, _) in &r.signals {
-            print!(" {level:>14.2}");
+            say_part!(" {level:>14.2}");
         }
-        println!();
+        say!();
     }
 }
 

@@ -224,6 +224,21 @@ pub fn default_segment_len(n: usize) -> usize {
     ((n / 2) & !1).max(4).min(n)
 }
 
+/// The Welch segment actually used for `n` samples: `segment_len` (or
+/// [`default_segment_len`]) capped at the signal, as [`welch`] caps it.
+pub fn effective_segment_len(n: usize, segment_len: Option<usize>) -> usize {
+    segment_len.unwrap_or_else(|| default_segment_len(n)).min(n)
+}
+
+/// The lowest one-third-octave band centre (Hz) that Welch segments of
+/// `segment_len` samples at `sample_rate` resolve: a band is resolved when
+/// it holds at least two frequency bins, `f (10^0.05 − 10^−0.05) ≥ 2 fs / L`.
+/// Pass the segment actually used ([`effective_segment_len`]): a segment
+/// asked longer than the signal resolves only what the signal does.
+pub fn resolved_from(sample_rate: f64, segment_len: usize) -> f64 {
+    2.0 * sample_rate / segment_len as f64 / (10f64.powf(0.05) - 10f64.powf(-0.05))
+}
+
 /// One-third-octave spectrum of a signal in one call: Welch PSD
 /// ([`welch`], mean removed, [`default_segment_len`] unless given), the
 /// nominal bands below the Nyquist frequency ([`bands_below`]), levels in dB
@@ -382,5 +397,23 @@ mod tests {
         assert!(welch(&[1.0; 8], 0.0, 4, true).is_err());
         let psd = welch(&[1.0, 2.0, 3.0, 4.0], 1.0, 4, false).ok();
         assert!(psd.is_some_and(|p| band_levels(&p, &[], 0.0).is_err()));
+    }
+
+    /// A segment asked longer than the signal is the signal: the band
+    /// resolution follows the samples there are, not the request (a
+    /// 6-sample stretch once claimed bands from 0 Hz up resolved).
+    #[test]
+    fn resolution_follows_the_segment_used_not_the_one_asked() {
+        assert_eq!(effective_segment_len(6, Some(1_000_000_000)), 6);
+        assert_eq!(effective_segment_len(1000, None), 500);
+        assert_eq!(effective_segment_len(1000, Some(200)), 200);
+        let fs = 13_888.9;
+        let from_six = resolved_from(fs, effective_segment_len(6, Some(1_000_000_000)));
+        // Two bins of fs/6 in a band of relative width 0.2303: ~20 kHz.
+        assert!((from_six - 2.0 * fs / 6.0 / 0.230_3).abs() < 0.01 * from_six);
+        assert!(
+            from_six > 0.5 * fs,
+            "nothing below Nyquist is resolved by 6 samples"
+        );
     }
 }

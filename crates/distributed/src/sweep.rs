@@ -146,6 +146,29 @@ impl Sweep {
         if axes.is_empty() {
             return Err(sweep_err(origin, "[parameters] names no parameter"));
         }
+        // Two parameters that set the same key (`load` and
+        // `rolling.control.load`), or one key inside the other's table
+        // (`material` and `material.youngs_modulus`), would leave the run
+        // with whichever was set last while the table shows both.
+        for (i, (a, _)) in axes.iter().enumerate() {
+            for (b, _) in &axes[i + 1..] {
+                let (ka, kb) = (parameter_key(a), parameter_key(b));
+                let inside = |outer: &str, inner: &str| {
+                    inner.len() > outer.len()
+                        && inner.starts_with(outer)
+                        && inner.as_bytes()[outer.len()] == b'.'
+                };
+                if ka == kb || inside(ka, kb) || inside(kb, ka) {
+                    return Err(sweep_err(
+                        origin,
+                        format!(
+                            "parameters.{a} (`{ka}`) and parameters.{b} (`{kb}`) set the same \
+                             part of the scenario: keep one"
+                        ),
+                    ));
+                }
+            }
+        }
         let combos = combinations(&axes, grid).map_err(|m| sweep_err(origin, m))?;
         let mut runs = Vec::with_capacity(combos.len());
         for (index, combo) in combos.into_iter().enumerate() {
@@ -563,5 +586,23 @@ mod tests {
             lines[2],
             "1,30 N,40,0,3.000000000e1,approach,12.346,10.000,8.000,"
         );
+    }
+
+    /// A parameter named by its alias and by its key, or a table and a key
+    /// inside it, is refused: the run would keep one and the table show
+    /// both (a run labelled 20 N once rolled at 30 N).
+    #[test]
+    fn two_parameters_on_the_same_key_are_refused() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        for params in [
+            "load = [\"20 N\"]\n\"rolling.control.load\" = [\"30 N\"]",
+            "material = [\"a.toml\"]\n\"material.youngs_modulus\" = [\"5 MPa\"]",
+        ] {
+            let text = format!("scenario = \"rolling_small.toml\"\n[parameters]\n{params}\n");
+            let err = Sweep::parse(&text, "s.toml", &dir).unwrap_err().to_string();
+            assert!(err.contains("set the same part of the scenario"), "{err}");
+        }
+        let text = "scenario = \"rolling_small.toml\"\n[parameters]\nload = [\"20 N\"]\nspeed = [\"50 km/h\"]\n";
+        assert!(Sweep::parse(text, "s.toml", &dir).is_ok());
     }
 }

@@ -231,6 +231,14 @@ impl Calibration {
                 "non-finite value in calibration pairs".into(),
             ));
         }
+        // A film records contact pressure, which pushes: a negative one is
+        // a typo or a wrong unit, and would calibrate prints to suction.
+        if let Some(&(p, r)) = v.iter().find(|(p, _)| *p < 0.0) {
+            return Err(FilmError::InvalidCalibration(format!(
+                "negative pressure {p} Pa (at {} {r}): contact pressures are ≥ 0",
+                response.name()
+            )));
+        }
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (x, y): (Vec<f64>, Vec<f64>) = v.into_iter().unzip();
         match MonotoneCubic::new(x, y) {
@@ -635,5 +643,27 @@ impl FilmResponse {
     /// Density of grey level `g` through the scanner relation.
     pub fn density_of_grey(&self, g: f64) -> f64 {
         self.scanner.density(g)
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    /// A negative pressure in a calibration is refused, naming it (a
+    /// `0.9,-0.5` line in MPa was once calibrated as suction).
+    #[test]
+    fn a_negative_calibration_pressure_is_refused() {
+        let pairs = [(0.2, 0.0), (0.5, 1e6), (0.9, -0.5e6)];
+        let err = Calibration::from_pairs(Response::Density, &pairs)
+            .err()
+            .map(|e| e.to_string());
+        assert!(
+            err.as_deref()
+                .is_some_and(|e| e.contains("negative pressure")),
+            "{err:?}"
+        );
+        assert!(Calibration::from_pairs(Response::Density, &pairs[..2]).is_ok());
     }
 }

@@ -138,7 +138,7 @@ pub use run::{Progress, ProgressFn, RunOptions, roll, roll_range};
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
-    third_octave, welch,
+    effective_segment_len, resolved_from, third_octave, welch,
 };
 pub use step::{StepProblem, contact_point, step_problem};
 pub use synth::SyntheticRoad;

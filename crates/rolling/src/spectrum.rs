@@ -4,5 +4,5 @@
 
 pub use tyreroad_core::spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
-    third_octave, welch,
+    effective_segment_len, resolved_from, third_octave, welch,
 };

@@ -46,7 +46,12 @@ impl HeightMap {
         Self::with_mask(nx, ny, dx, dy, heights, valid)
     }
 
-    /// A map where non-finite heights (NaN, ±∞) mark invalid points.
+    /// A map where NaN heights mark invalid (unmeasured) points.
+    ///
+    /// # Errors
+    /// An infinite height is refused, naming its point: it is no
+    /// measurement of anything, and silently dropping it would hide a
+    /// broken export.
     pub fn from_nan_heights(
         nx: usize,
         ny: usize,
@@ -54,6 +59,13 @@ impl HeightMap {
         dy: f64,
         heights: Vec<f64>,
     ) -> Result<Self, TextureError> {
+        if let Some(k) = heights.iter().position(|h| h.is_infinite()) {
+            let (i, j) = (k % nx.max(1), k / nx.max(1));
+            return Err(TextureError::InvalidMap(format!(
+                "the height at point (i = {i}, j = {j}) is infinite ({}); missing points are NaN",
+                heights[k]
+            )));
+        }
         let valid = heights.iter().map(|h| h.is_finite()).collect();
         Self::with_mask(nx, ny, dx, dy, heights, valid)
     }

@@ -446,3 +446,25 @@ proptest! {
         let _ = sur_from_bytes(&compressed_with_block(&b));
     }
 }
+
+/// An ASCII grid header that gives a key twice, or a zero or negative
+/// scale, is refused (the last `nx` once won silently, and `z_scale 0`
+/// flattened the map); an xyz file whose points share one (x, y) is no map
+/// (it once became a 1 × 1 map at an invented 1 m spacing).
+#[test]
+fn ambiguous_text_headers_and_single_point_xyz_are_refused() {
+    let grid = |header: &str| format!("{header}\ndata\n1 2\n3 4\n");
+    let good = "nx 2\nny 2\ndx 1e-4\ndy 1e-4";
+    assert!(ascii_grid_from_str(&grid(good)).is_ok());
+    for (header, says) in [
+        ("nx 2\nnx 2\nny 2\ndx 1e-4\ndy 1e-4", "given twice"),
+        ("nx 2\nny 2\ndx 1e-4\ndy 1e-4\nz_scale 0", "z_scale"),
+        ("nx 2\nny 2\ndx 1e-4\ndy 1e-4\nxy_scale -1", "xy_scale"),
+    ] {
+        let err = ascii_grid_from_str(&grid(header)).unwrap_err().to_string();
+        assert!(err.contains(says), "{header}: {err}");
+    }
+    let err = xyz_from_str("0 0 1e-4\n").unwrap_err().to_string();
+    assert!(err.contains("at least two grid points"), "{err}");
+    assert!(xyz_from_str("0 0 1e-4\n1e-4 0 2e-4\n").is_ok());
+}

@@ -16,7 +16,7 @@ use std::path::Path;
 
 use tyreroad_core::validate;
 
-use crate::{HeightMap, TextureError};
+use crate::{HeightMap, MAX_POINTS, TextureError};
 
 const NPY: &str = "NumPy";
 
@@ -137,6 +137,7 @@ fn floats(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>), TextureError> {
 /// Shape, values (file order) and whether the order is Fortran's.
 fn floats_nd(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>, bool), TextureError> {
     let bad = |e: std::io::Error| TextureError::format(NPY, e.to_string());
+    check_declared_size(bytes)?;
     let file = npyz::NpyFile::new(bytes).map_err(bad)?;
     let shape: Vec<usize> = file.shape().iter().map(|&n| n as usize).collect();
     let fortran = file.order() == npyz::Order::Fortran;
@@ -159,6 +160,81 @@ fn floats_nd(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>, bool), TextureError>
         }
     };
     Ok((shape, values, fortran))
+}
+
+/// Refuses a header whose declared shape cannot be this file's array:
+/// more points than [`MAX_POINTS`] (or than `u128` counts) or more data
+/// than the bytes after the header hold. The reader multiplies the shape
+/// out before reading, so a forged header must be caught first. A header
+/// this cannot parse is left to the reader's own errors.
+fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
+    let Some((header, data)) = split_header(bytes) else {
+        return Ok(());
+    };
+    let field = |key: &str| {
+        let at = header.find(&format!("'{key}':"))? + key.len() + 3;
+        Some(header[at..].trim_start())
+    };
+    let Some(shape) = field("shape")
+        .and_then(|v| v.strip_prefix('('))
+        .and_then(|v| v.split(')').next())
+    else {
+        return Ok(());
+    };
+    let Ok(dims) = shape
+        .split(',')
+        .map(str::trim)
+        .filter(|d| !d.is_empty())
+        .map(str::parse::<u128>)
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return Ok(());
+    };
+    let points = dims
+        .iter()
+        .try_fold(1u128, |n, &d| n.checked_mul(d))
+        .filter(|&n| n <= MAX_POINTS as u128)
+        .ok_or_else(|| {
+            TextureError::format(
+                NPY,
+                format!("declared shape {dims:?} exceeds the {MAX_POINTS} points a map may hold"),
+            )
+        })?;
+    // The element size from the descr's digits ('<f8' -> 8); 1 if unknown.
+    let element = field("descr")
+        .and_then(|v| v.strip_prefix('\''))
+        .and_then(|v| v.split('\'').next())
+        .map(|d| d.trim_start_matches(|c: char| !c.is_ascii_digit()))
+        .and_then(|d| d.parse::<u128>().ok())
+        .unwrap_or(1);
+    let needed = points * element;
+    if (data.len() as u128) < needed {
+        return Err(TextureError::format(
+            NPY,
+            format!(
+                "declared shape {dims:?} ({points} points, {needed} bytes) but the file holds {} bytes of data",
+                data.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The header text and the data bytes of a `.npy` file, or `None` when it
+/// does not start like one.
+fn split_header(bytes: &[u8]) -> Option<(String, &[u8])> {
+    let (len, prefix) = match bytes.get(..12)? {
+        [0x93, b'N', b'U', b'M', b'P', b'Y', 1, _, a, b, ..] => {
+            (usize::from(u16::from_le_bytes([*a, *b])), 10usize)
+        }
+        [0x93, b'N', b'U', b'M', b'P', b'Y', _, _, a, b, c, d] => {
+            (u32::from_le_bytes([*a, *b, *c, *d]) as usize, 12)
+        }
+        _ => return None,
+    };
+    let end = len.checked_add(prefix)?;
+    let header = bytes.get(prefix..end)?;
+    Some((String::from_utf8_lossy(header).into_owned(), &bytes[end..]))
 }
 
 #[cfg(test)]
@@ -202,6 +278,43 @@ mod tests {
         assert!(npy_from_bytes(&npy(&[1, 2], &[1i32, 2]), 1e-4, 1e-4).is_err());
         assert!(npy_from_bytes(&npy(&[1, 2], &[1.0f64, 2.0]), 0.0, 1e-4).is_err());
         assert!(npy_from_bytes(b"not numpy", 1e-4, 1e-4).is_err());
+    }
+
+    /// A header may declare any shape: one whose point count overflows
+    /// `usize`, exceeds [`MAX_POINTS`] or needs more data than the file
+    /// holds is refused before anything is allocated (it once panicked on
+    /// the multiplication).
+    #[test]
+    fn a_declared_shape_beyond_the_data_is_refused() {
+        let forged = |shape: &str, data: usize| {
+            let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+            let pad = (64 - (10 + dict.len() + 1) % 64) % 64;
+            let header = format!("{dict}{}\n", " ".repeat(pad));
+            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+            bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+            bytes.extend_from_slice(header.as_bytes());
+            bytes.extend_from_slice(&vec![0u8; data]);
+            bytes
+        };
+        let huge = forged("(4294967296, 4294967296)", 32);
+        let err = npy_from_bytes(&huge, 1e-4, 1e-4).unwrap_err().to_string();
+        assert!(err.contains("4294967296"), "{err}");
+        let short = forged("(3, 3)", 32);
+        let err = npy_from_bytes(&short, 1e-4, 1e-4).unwrap_err().to_string();
+        assert!(err.contains("9 points"), "{err}");
+        assert!(npy_from_bytes(&forged("(3, 3)", 72), 1e-4, 1e-4).is_ok());
+    }
+
+    /// NaN marks a missing point (the documented convention); an infinite
+    /// height is no height at all and is refused, as X3P and the text
+    /// formats refuse it.
+    #[test]
+    fn infinite_heights_are_refused_not_dropped() {
+        let err = npy_from_bytes(&npy(&[1, 2], &[0.0f64, f64::INFINITY]), 1e-4, 1e-4)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("infinite"), "{err}");
+        assert!(npy_from_bytes(&npy(&[1, 2], &[0.0f64, f64::NAN]), 1e-4, 1e-4).is_ok());
     }
 
     #[test]

@@ -48,6 +48,7 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
             .ok_or_else(|| TextureError::format(GRID, format!("header {k}: expected a size")))
     };
     let mut saw_data = false;
+    let mut seen = std::collections::HashSet::new();
     for line in lines.by_ref() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -56,6 +57,13 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
         let mut it = line.split_whitespace();
         let key = it.next().unwrap_or("").to_ascii_lowercase();
         let val = it.next();
+        // A key given twice would silently keep its last value.
+        if key != "data" && !seen.insert(key.clone()) {
+            return Err(TextureError::format(
+                GRID,
+                format!("header key {key:?} is given twice"),
+            ));
+        }
         match key.as_str() {
             "nx" => nx = Some(int("nx", val)?),
             "ny" => ny = Some(int("ny", val)?),
@@ -79,6 +87,15 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
     }
     if !saw_data {
         return Err(TextureError::format(GRID, "no `data` line ends the header"));
+    }
+    // A zero or negative scale would flatten or mirror the map silently.
+    for (k, v) in [("z_scale", zs), ("xy_scale", xys)] {
+        if v <= 0.0 {
+            return Err(TextureError::format(
+                GRID,
+                format!("header {k} = {v}: expected a factor > 0"),
+            ));
+        }
     }
     let missing = |k| TextureError::format(GRID, format!("header has no {k}"));
     let (nx, ny) = (
@@ -234,7 +251,12 @@ pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
     let (x0, dx, nx) = axis(0)?;
     let (y0, dy, ny) = axis(1)?;
     let (dx, dy) = match (nx, ny) {
-        (1, 1) => (1.0, 1.0),
+        (1, 1) => {
+            return Err(TextureError::format(
+                XYZ,
+                "every point is at one (x, y): a height map needs at least two grid points",
+            ));
+        }
         (1, _) => (dy, dy),
         (_, 1) => (dx, dx),
         _ => (dx, dy),

@@ -131,13 +131,31 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
             format!("a height map is a 2-D array, this one has shape {shape:?}"),
         ));
     };
+    let data_offset = (prefix + len) as u64;
+    // A window reads `ny` points per column: the declared shape must be
+    // the file's, or a forged header would size the reads (and their
+    // buffers) from nothing.
+    let stored = file
+        .metadata()
+        .map_err(|e| TextureError::io(path, e))?
+        .len()
+        .saturating_sub(data_offset);
+    let needed = (nx as u128)
+        .checked_mul(ny as u128)
+        .and_then(|n| n.checked_mul(element as u128))
+        .unwrap_or(u128::MAX);
+    if ny > crate::MAX_POINTS || needed > u128::from(stored) {
+        return Err(bad(&format!(
+            "declared shape ({ny}, {nx}) needs {needed} bytes of data, the file holds {stored}"
+        )));
+    }
     Ok(NpyLayout {
         nx,
         ny,
         element,
         big_endian,
         fortran,
-        data_offset: (prefix + len) as u64,
+        data_offset,
     })
 }
 
@@ -234,6 +252,42 @@ mod tests {
         w.extend(data.iter().copied()).unwrap();
         w.finish().unwrap();
         std::fs::write(path, bytes).unwrap();
+    }
+
+    /// A header that declares more data than the file holds is refused
+    /// when the layout is read, before a window sizes its reads by it (a
+    /// forged `(4294967296, 4294967296)` would otherwise ask for exabytes).
+    #[test]
+    fn a_declared_shape_beyond_the_file_is_refused() {
+        let dir = std::env::temp_dir().join(format!("tyreroad-forged-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("forged.npy");
+        for (shape, data, refused) in [
+            ("(4294967296, 4294967296)", 32, true),
+            ("(3, 3)", 64, true),
+            ("(3, 3)", 72, false),
+        ] {
+            let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+            let pad = (64 - (10 + dict.len() + 1) % 64) % 64;
+            let header = format!("{dict}{}\n", " ".repeat(pad));
+            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+            bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+            bytes.extend_from_slice(header.as_bytes());
+            bytes.extend_from_slice(&vec![0u8; data]);
+            std::fs::write(&path, bytes).unwrap();
+            let layout = npy_layout(&path);
+            assert_eq!(
+                layout.is_err(),
+                refused,
+                "{shape} with {data} bytes: {layout:?}"
+            );
+            if refused {
+                let err = layout.unwrap_err().to_string();
+                assert!(err.contains("declared shape"), "{err}");
+                assert!(read_npy_window(&path, 1e-4, 1e-4, 0..2).is_err());
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// Every window of C- and Fortran-ordered float64 and float32 maps is
