@@ -119,13 +119,16 @@ impl Sweep {
             .map_err(|e| sweep_err(origin, format!("scenario {}: {e}", scenario_path.display())))?;
         let base: Table = toml::from_str(&base_text)
             .map_err(|e| sweep_err(&scenario_path.display().to_string(), e))?;
-        let grid = match table.get("combine").map(|v| v.as_str()) {
-            None | Some(Some("grid")) => true,
-            Some(Some("list")) => false,
+        let grid = match table.get("combine") {
+            None => true,
+            Some(v) if v.as_str() == Some("grid") => true,
+            Some(v) if v.as_str() == Some("list") => false,
+            // The value as the file wrote it (`"product"`, `3`), not Rust's
+            // `Some("product")`.
             Some(other) => {
                 return Err(sweep_err(
                     origin,
-                    format!("combine = {other:?}: expected \"grid\" or \"list\""),
+                    format!("combine = {other}: expected \"grid\" or \"list\""),
                 ));
             }
         };
@@ -532,7 +535,7 @@ mod tests {
             (list.replace("[1, 2]", "[1]"), "one length"),
             (
                 list.replace("combine = \"list\"", "combine = \"all\""),
-                "combine",
+                "combine = \"all\": expected",
             ),
             (list.replace("[1, 2]", "[]"), "non-empty"),
             (list.replace("scenario =", "scenari ="), "unknown key"),
