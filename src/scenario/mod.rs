@@ -38,7 +38,7 @@ pub use bem::{
     BEM_CELL, BemComparison, BemLoad, ComparedLoad, IMAGE_LOAD, MAP_CELL, MAX_FORCE_DIFFERENCE,
     bem_comparison, differences,
 };
-pub use check::{TOLERANCE_RANGE, check_name, check_threads};
+pub use check::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use error::ScenarioError;
 pub use history::{
     DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, MAX_HISTORY_STEPS,
