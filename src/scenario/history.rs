@@ -30,8 +30,8 @@
 use serde::Deserialize;
 use tyreroad_viscoelastic::{Hereditary, Prony, ViscoStep};
 
-use super::check::{LOAD_RANGE, in_range};
 use super::output::{OutputSet, fmt};
+use super::ranges::{LOAD_RANGE, in_range};
 use super::units::{Force, Time};
 use super::{Scenario, ScenarioError};
 

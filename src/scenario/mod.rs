@@ -23,6 +23,7 @@ mod check;
 mod error;
 mod history;
 pub mod output;
+mod ranges;
 mod rolling;
 mod rolling_spec;
 mod rolling_stream;
@@ -38,12 +39,12 @@ pub use bem::{
     BEM_CELL, BemComparison, BemLoad, ComparedLoad, IMAGE_LOAD, MAP_CELL, MAX_FORCE_DIFFERENCE,
     bem_comparison, differences,
 };
-pub use check::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use error::ScenarioError;
 pub use history::{
     DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, MAX_HISTORY_STEPS,
     SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario, write_history_csv,
 };
+pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use rolling_stream::StreamedRun;

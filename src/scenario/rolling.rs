@@ -434,7 +434,7 @@ fn npy_window_road(
             source,
         }
     })?;
-    super::check::texture_file_spacing(&path, dx, dy)?;
+    super::ranges::texture_file_spacing(&path, dx, dy)?;
     Ok(Some(NpyTextureRoad::open(
         &path,
         material,

@@ -185,7 +185,7 @@ impl TextureSpec {
                         context: format!("[texture] reading {}", path.display()),
                         source,
                     })?;
-                super::check::texture_file_spacing(&path, map.dx(), map.dy())?;
+                super::ranges::texture_file_spacing(&path, map.dx(), map.dy())?;
                 Ok(map)
             }
             (None, Some(synth)) => synth.height_map(),

@@ -16,7 +16,7 @@ use tyreroad_viscoelastic::{
     ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic, significant,
 };
 
-use super::check::{MODULUS_RANGE, SPEED_RANGE, in_range};
+use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
 use super::texture::{calibrated_texture_road_set, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
