@@ -446,22 +446,12 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
     }
     let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
     // Rolling on a texture takes calibrated laws with point coupling
-    // (crate::fidelity::rolling); the coupled rungs are static only.
+    // (crate::fidelity::rolling); the coupled rungs (distributed,
+    // clustered, calibrated_fields) are static only.
     let rolling_texture = scenario.texture.is_some() && scenario.rolling.is_some();
     let allowed = fidelity == Fidelity::Wilke
         || static_texture
         || (rolling_texture && fidelity == Fidelity::Calibrated);
-    // The field coupling is measured by `cargo xtask validate --textures`
-    // (crate::fidelity::coupling); a scenario run does not drive it yet,
-    // and must not run it silently as `calibrated`.
-    if fidelity == Fidelity::CalibratedFields {
-        return Err(bad(
-            "[model] fidelity",
-            format!("{:?}", fidelity.name()),
-            "\"wilke\", \"calibrated\", \"distributed\" or \"clustered\" in a scenario \
-             (\"calibrated_fields\" runs in `cargo xtask validate --textures` only)",
-        ));
-    }
     if !allowed {
         let expected = if rolling_texture {
             "\"wilke\" or \"calibrated\" in a [rolling] run on a [texture]"

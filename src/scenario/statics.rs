@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use tyreroad_contact_law::{ContactLaw, LocalContact};
 use tyreroad_multipoint::{
-    Control, Problem, SolveError, SolverOptions, overlapping_contacts, solve,
+    Control, Problem, Solution, SolveError, SolverOptions, overlapping_contacts, solve,
 };
 
 use super::{Scenario, ScenarioError};
@@ -139,6 +139,31 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
     loads: &[f64],
     options: &SolverOptions,
 ) -> Result<StaticSolve, ScenarioError> {
+    run_static_problem_with(name, problem, ids, loads, |load| {
+        match solve(problem, Control::Load(load), options) {
+            Ok(s) => Ok(Ok(s)),
+            Err(source @ SolveError::NotConverged { .. }) => Ok(Err(source.to_string())),
+            Err(source) => Err(ScenarioError::Solve {
+                context: format!("solving {name} at {load} N"),
+                source,
+            }),
+        }
+    })
+}
+
+/// [`run_static_problem`] with the solve of each load given: `solve(load)`
+/// is `Ok(Ok(solution))`, `Ok(Err(why))` for that load's own failure
+/// (recorded, the other loads go on) or `Err` for the run's.
+///
+/// # Errors
+/// As [`run_static_problem`].
+pub fn run_static_problem_with<L: ContactLaw + Sync>(
+    name: &str,
+    problem: &Problem<L>,
+    ids: &[u32],
+    loads: &[f64],
+    mut solve_load: impl FnMut(f64) -> Result<Result<Solution, String>, ScenarioError>,
+) -> Result<StaticSolve, ScenarioError> {
     if ids.len() != problem.len() {
         return Err(ScenarioError::Invalid(format!(
             "{name}: {} ids for {} asperities",
@@ -150,17 +175,11 @@ pub fn run_static_problem<L: ContactLaw + Sync>(
     let mut failed_loads = Vec::new();
     for &load in loads {
         let start = Instant::now();
-        let s = match solve(problem, Control::Load(load), options) {
+        let s = match solve_load(load)? {
             Ok(s) => s,
-            Err(source @ SolveError::NotConverged { .. }) => {
-                failed_loads.push((load, source.to_string()));
+            Err(why) => {
+                failed_loads.push((load, why));
                 continue;
-            }
-            Err(source) => {
-                return Err(ScenarioError::Solve {
-                    context: format!("solving {name} at {load} N"),
-                    source,
-                });
             }
         };
         let seconds = start.elapsed().as_secs_f64();

@@ -7,14 +7,18 @@ use std::path::Path;
 use std::sync::Arc;
 
 use tyreroad_contact_law::Material;
-use tyreroad_multipoint::{AsperitySet, Control, Problem, solve};
+use tyreroad_multipoint::{AsperitySet, Control, Problem, Solution, SolveError, solve};
 use tyreroad_texture::HeightMap;
 
-use super::statics::{StaticResult, run_static_problem, static_loads};
+use super::statics::{StaticResult, run_static_problem, run_static_problem_with, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
+use crate::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
 use crate::fidelity::rolling::calibrate_rolling_road;
-use crate::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator, LawSource, calibrated_set};
+use crate::fidelity::{
+    CalibratedLaw, CalibrationOptions, Calibrator, Coupling, FidelityError, LawSource,
+    calibrated_set,
+};
 use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
@@ -145,11 +149,48 @@ pub(crate) fn run_texture_static(
                     "[model] fidelity: the approach range of the calibration",
                 ))?
                 .approach;
-            let calibrator = Calibrator::new(material, CalibrationOptions::default());
+            let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
+            if rung.coupling == Coupling::Fields {
+                calibrator = calibrator.with_fields();
+            }
             let set = calibrated_set(&road, &map, APPROACH_MARGIN * approach, &calibrator)?;
             let problem =
                 Problem::from_set(set, material).map_err(as_problem("[texture] asperities"))?;
-            run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+            match rung.coupling {
+                Coupling::Solver => {
+                    run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+                }
+                // Each load its own fixed point of the field coupling
+                // (crate::fidelity::coupling), warm-started from the
+                // previous load's solution.
+                Coupling::Fields => {
+                    let mut previous: Option<Solution> = None;
+                    let coupling = FieldCouplingOptions::default();
+                    run_static_problem_with(&scenario.name, &problem, &ids, &loads, |load| {
+                        let solved = solve_field_coupled(
+                            &problem,
+                            Control::Load(load),
+                            &rung.solver,
+                            &coupling,
+                            previous.as_ref(),
+                        );
+                        match solved {
+                            Ok(f) => {
+                                previous = Some(f.solution.clone());
+                                Ok(Ok(f.solution))
+                            }
+                            Err(
+                                e @ (FidelityError::FieldCoupling { .. }
+                                | FidelityError::Solve(SolveError::NotConverged { .. })),
+                            ) => Ok(Err(e.to_string())),
+                            Err(e) => Err(ScenarioError::Invalid(format!(
+                                "{}: solving at {load} N with the field coupling: {e}",
+                                scenario.name
+                            ))),
+                        }
+                    })?
+                }
+            }
         }
     };
     let options = TwoScaleOptions {
