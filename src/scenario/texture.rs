@@ -263,15 +263,21 @@ pub(crate) fn texture_road_set(
     let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
+    Ok((centred_on_mid_width(road.set, &map)?, summary, radii))
+}
+
+/// `set` moved so that y is centred on the map's mid-width (x unchanged):
+/// a rolling path at `lateral = 0` runs down the middle of the texture.
+fn centred_on_mid_width<L>(
+    set: AsperitySet<L>,
+    map: &HeightMap,
+) -> Result<AsperitySet<L>, ScenarioError> {
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let set = road
-        .set
-        .translated([0.0, -y_mid])
+    set.translated([0.0, -y_mid])
         .map_err(|source| ScenarioError::Solve {
             context: "[texture] road".into(),
             source,
-        })?;
-    Ok((set, summary, radii))
+        })
 }
 
 /// [`texture_road_set`] with its asperities in the rolling order
@@ -287,14 +293,7 @@ pub(crate) fn rolling_texture_road_set(
     let road = scenario_road(&map, material, texture)?;
     let summary = TextureSummary::new(&map, &road);
     let (set, radii) = road.rolling_set()?;
-    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let set = set
-        .translated([0.0, -y_mid])
-        .map_err(|source| ScenarioError::Solve {
-            context: "[texture] road".into(),
-            source,
-        })?;
-    Ok((set, summary, radii))
+    Ok((centred_on_mid_width(set, &map)?, summary, radii))
 }
 
 /// [`texture_road_set`] with calibrated laws, for `[model] fidelity =
@@ -314,15 +313,7 @@ pub(crate) fn calibrated_texture_road_set(
     let road = scenario_road(&map, material, texture)?;
     let mut summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
-    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let set = road
-        .set
-        .clone()
-        .translated([0.0, -y_mid])
-        .map_err(|source| ScenarioError::Solve {
-            context: "[texture] road".into(),
-            source,
-        })?;
+    let set = centred_on_mid_width(road.set.clone(), &map)?;
     let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
     let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
     if let Some(dir) = cache {
