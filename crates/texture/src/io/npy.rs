@@ -171,23 +171,7 @@ fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
     let Some((header, data)) = split_header(bytes) else {
         return Ok(());
     };
-    let field = |key: &str| {
-        let at = header.find(&format!("'{key}':"))? + key.len() + 3;
-        Some(header[at..].trim_start())
-    };
-    let Some(shape) = field("shape")
-        .and_then(|v| v.strip_prefix('('))
-        .and_then(|v| v.split(')').next())
-    else {
-        return Ok(());
-    };
-    let Ok(dims) = shape
-        .split(',')
-        .map(str::trim)
-        .filter(|d| !d.is_empty())
-        .map(str::parse::<u128>)
-        .collect::<Result<Vec<_>, _>>()
-    else {
+    let Some(Ok(dims)) = header_shape::<u128>(&header) else {
         return Ok(());
     };
     let points = dims
@@ -201,9 +185,7 @@ fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
             )
         })?;
     // The element size from the descr's digits ('<f8' -> 8); 1 if unknown.
-    let element = field("descr")
-        .and_then(|v| v.strip_prefix('\''))
-        .and_then(|v| v.split('\'').next())
+    let element = header_descr(&header)
         .map(|d| d.trim_start_matches(|c: char| !c.is_ascii_digit()))
         .and_then(|d| d.parse::<u128>().ok())
         .unwrap_or(1);
@@ -218,6 +200,35 @@ fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
         ));
     }
     Ok(())
+}
+
+/// The text after `'key':` in a `.npy` header's dictionary.
+pub(super) fn header_value<'h>(header: &'h str, key: &str) -> Option<&'h str> {
+    let at = header.find(&format!("'{key}':"))? + key.len() + 3;
+    Some(header[at..].trim_start())
+}
+
+/// The header's `descr` string (`<f8`, …).
+pub(super) fn header_descr(header: &str) -> Option<&str> {
+    header_value(header, "descr")
+        .and_then(|v| v.strip_prefix('\''))
+        .and_then(|v| v.split('\'').next())
+}
+
+/// The header's `shape` tuple: `None` when there is none, `Some(Err(()))`
+/// when a dimension does not parse as `T`.
+pub(super) fn header_shape<T: std::str::FromStr>(header: &str) -> Option<Result<Vec<T>, ()>> {
+    let tuple = header_value(header, "shape")
+        .and_then(|v| v.strip_prefix('('))
+        .and_then(|v| v.split(')').next())?;
+    Some(
+        tuple
+            .split(',')
+            .map(str::trim)
+            .filter(|d| !d.is_empty())
+            .map(|d| d.parse::<T>().map_err(|_| ()))
+            .collect(),
+    )
 }
 
 /// The header text and the data bytes of a `.npy` file, or `None` when it
@@ -239,7 +250,7 @@ fn split_header(bytes: &[u8]) -> Option<(String, &[u8])> {
 
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use npyz::WriterBuilder;
 
@@ -280,29 +291,32 @@ mod tests {
         assert!(npy_from_bytes(b"not numpy", 1e-4, 1e-4).is_err());
     }
 
+    /// A float64 `.npy` whose header declares `shape` (a tuple's text)
+    /// over `data` zero bytes, whatever they hold.
+    pub(crate) fn forged_npy(shape: &str, data: usize) -> Vec<u8> {
+        let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+        let pad = (64 - (10 + dict.len() + 1) % 64) % 64;
+        let header = format!("{dict}{}\n", " ".repeat(pad));
+        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+        bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+        bytes.extend_from_slice(header.as_bytes());
+        bytes.extend_from_slice(&vec![0u8; data]);
+        bytes
+    }
+
     /// A header may declare any shape: one whose point count overflows
     /// `usize`, exceeds [`MAX_POINTS`] or needs more data than the file
     /// holds is refused before anything is allocated (it once panicked on
     /// the multiplication).
     #[test]
     fn a_declared_shape_beyond_the_data_is_refused() {
-        let forged = |shape: &str, data: usize| {
-            let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
-            let pad = (64 - (10 + dict.len() + 1) % 64) % 64;
-            let header = format!("{dict}{}\n", " ".repeat(pad));
-            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-            bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-            bytes.extend_from_slice(header.as_bytes());
-            bytes.extend_from_slice(&vec![0u8; data]);
-            bytes
-        };
-        let huge = forged("(4294967296, 4294967296)", 32);
+        let huge = forged_npy("(4294967296, 4294967296)", 32);
         let err = npy_from_bytes(&huge, 1e-4, 1e-4).unwrap_err().to_string();
         assert!(err.contains("4294967296"), "{err}");
-        let short = forged("(3, 3)", 32);
+        let short = forged_npy("(3, 3)", 32);
         let err = npy_from_bytes(&short, 1e-4, 1e-4).unwrap_err().to_string();
         assert!(err.contains("9 points"), "{err}");
-        assert!(npy_from_bytes(&forged("(3, 3)", 72), 1e-4, 1e-4).is_ok());
+        assert!(npy_from_bytes(&forged_npy("(3, 3)", 72), 1e-4, 1e-4).is_ok());
     }
 
     /// NaN marks a missing point (the documented convention); an infinite

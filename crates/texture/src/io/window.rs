@@ -20,6 +20,7 @@ use std::path::Path;
 
 use tyreroad_core::validate;
 
+use super::npy::{header_descr, header_shape, header_value};
 use crate::{HeightMap, TextureError};
 
 const NPY: &str = "NumPy";
@@ -92,14 +93,7 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
     file.read_exact(&mut header)
         .map_err(|_| bad("truncated header"))?;
     let header = String::from_utf8_lossy(&header);
-    let value = |key: &str| -> Option<&str> {
-        let at = header.find(&format!("'{key}':"))? + key.len() + 3;
-        Some(header[at..].trim_start())
-    };
-    let descr = value("descr")
-        .and_then(|v| v.strip_prefix('\''))
-        .and_then(|v| v.split('\'').next())
-        .ok_or_else(|| bad("no descr"))?;
+    let descr = header_descr(&header).ok_or_else(|| bad("no descr"))?;
     let (big_endian, element) = match descr {
         "<f8" => (false, 8),
         "<f4" => (false, 4),
@@ -112,19 +106,12 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
             ));
         }
     };
-    let fortran = value("fortran_order")
+    let fortran = header_value(&header, "fortran_order")
         .map(|v| v.starts_with("True"))
         .ok_or_else(|| bad("no fortran_order"))?;
-    let shape: Vec<usize> = value("shape")
-        .and_then(|v| v.strip_prefix('('))
-        .and_then(|v| v.split(')').next())
+    let shape: Vec<usize> = header_shape(&header)
         .ok_or_else(|| bad("no shape"))?
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(str::parse)
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad("malformed shape"))?;
+        .map_err(|()| bad("malformed shape"))?;
     let [ny, nx] = shape[..] else {
         return Err(TextureError::format(
             NPY,
@@ -267,13 +254,7 @@ mod tests {
             ("(3, 3)", 64, true),
             ("(3, 3)", 72, false),
         ] {
-            let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
-            let pad = (64 - (10 + dict.len() + 1) % 64) % 64;
-            let header = format!("{dict}{}\n", " ".repeat(pad));
-            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-            bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-            bytes.extend_from_slice(header.as_bytes());
-            bytes.extend_from_slice(&vec![0u8; data]);
+            let bytes = crate::io::npy::tests::forged_npy(shape, data);
             std::fs::write(&path, bytes).unwrap();
             let layout = npy_layout(&path);
             assert_eq!(
