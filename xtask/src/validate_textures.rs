@@ -108,8 +108,8 @@ pub struct TextureArgs {
     /// With `--textures`: passes of the block fields' two-scale rebuild
     /// that solve each cap again under its neighbours' displacement
     /// (docs/validation.md, "Caps rebuilt beside their neighbours"); 0
-    /// rebuilds each cap alone.
-    #[arg(long, default_value_t = 0)]
+    /// rebuilds each cap alone (the tables measured before session 9).
+    #[arg(long, default_value_t = 2)]
     pub neighbour_passes: usize,
 }
 
