@@ -45,6 +45,7 @@ pub use history::{
     SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario, write_history_csv,
 };
 pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
+pub(crate) use rolling::run_calibrated_fields;
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use rolling_stream::StreamedRun;
