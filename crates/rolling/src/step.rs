@@ -405,6 +405,7 @@ fn fixed_point<L: ContactLaw + Sync>(
         })
         .collect();
     let mut change = f64::INFINITY;
+    let mut used = warm.clone();
     for round in 1..=coupling.max_rounds() {
         let state = CouplingState {
             ids,
@@ -413,14 +414,23 @@ fn fixed_point<L: ContactLaw + Sync>(
             depths: &s.depths,
             forces: &s.forces,
         };
-        let c = coupling.correction(&state).map_err(|m| {
+        let mut c = coupling.correction(&state).map_err(|m| {
             RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
         })?;
+        // From round DAMPED_AFTER + 1 on, half a step: a contact that
+        // switches on and off between rounds (its field jumps to its onset
+        // shape) can make the plain iteration cycle; the blend keeps the
+        // same fixed point (where C(δ) is the C solved with) and damps the
+        // cycle.
+        if round > DAMPED_AFTER {
+            c = blend(&used, &c, problem.len(), xc)?;
+        }
         let next = match solve_corrected(problem, control, options, Some(&s), &c) {
             Ok(next) => next,
             Err(e) => return Ok(Err(e)),
         };
         iterations += next.iterations;
+        used = c;
         change = next
             .forces
             .iter()
@@ -432,7 +442,7 @@ fn fixed_point<L: ContactLaw + Sync>(
         if change <= coupling.tolerance() {
             coupling.settled(round);
             s.iterations = iterations;
-            return Ok(Ok((s, c)));
+            return Ok(Ok((s, used)));
         }
     }
     Ok(Err(SolveError::NotConverged {
@@ -440,6 +450,30 @@ fn fixed_point<L: ContactLaw + Sync>(
         load_steps: 0,
         residual: change,
     }))
+}
+
+/// Rounds of a coupled step's fixed point taken whole before each new
+/// correction is blended half and half with the one last solved with.
+const DAMPED_AFTER: usize = 4;
+
+/// `(a + b) / 2` pair by pair (a pair missing from one counts 0 there),
+/// for a problem of `n` asperities.
+fn blend(
+    a: &PairCorrection,
+    b: &PairCorrection,
+    n: usize,
+    xc: f64,
+) -> Result<PairCorrection, RollingError> {
+    let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
+    for &(i, j, c) in a.pairs().iter().chain(b.pairs()) {
+        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += 0.5 * c;
+    }
+    PairCorrection::new(n, sum.into_iter().map(|((i, j), c)| (i, j, c)).collect()).map_err(
+        |source| RollingError::Solve {
+            position: xc,
+            source,
+        },
+    )
 }
 
 /// The record of a step whose solve failed: NaN values, no contacts.
