@@ -405,7 +405,9 @@ fn fixed_point<L: ContactLaw + Sync>(
         })
         .collect();
     let mut change = f64::INFINITY;
+    let mut previous = f64::INFINITY;
     let mut used = warm.clone();
+    let mut weight = 1.0;
     for round in 1..=coupling.max_rounds() {
         let state = CouplingState {
             ids,
@@ -417,13 +419,13 @@ fn fixed_point<L: ContactLaw + Sync>(
         let mut c = coupling.correction(&state).map_err(|m| {
             RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
         })?;
-        // From round DAMPED_AFTER + 1 on, half a step: a contact that
-        // switches on and off between rounds (its field jumps to its onset
-        // shape) can make the plain iteration cycle; the blend keeps the
-        // same fixed point (where C(δ) is the C solved with) and damps the
-        // cycle.
+        // From round DAMPED_AFTER + 1 on, a relaxed step `(1 − β) C_used +
+        // β C(δ)`, β halved (down to 1/16) whenever a round did not halve
+        // the change: two contacts whose patches overlap can make the
+        // plain iteration cycle; the blend keeps the same fixed point
+        // (where C(δ) is the C solved with) and damps the cycle.
         if round > DAMPED_AFTER {
-            c = blend(&used, &c, problem.len(), xc)?;
+            c = blend(&used, &c, weight, problem.len(), xc)?;
         }
         let next = match solve_corrected(problem, control, options, Some(&s), &c) {
             Ok(next) => next,
@@ -439,6 +441,10 @@ fn fixed_point<L: ContactLaw + Sync>(
             .fold(0.0, f64::max)
             / scale;
         s = next;
+        if round >= DAMPED_AFTER && change > 0.5 * previous {
+            weight = (0.5 * weight).max(1.0 / 16.0);
+        }
+        previous = change;
         if change <= coupling.tolerance() {
             coupling.settled(round);
             s.iterations = iterations;
@@ -453,20 +459,26 @@ fn fixed_point<L: ContactLaw + Sync>(
 }
 
 /// Rounds of a coupled step's fixed point taken whole before each new
-/// correction is blended half and half with the one last solved with.
+/// correction is blended with the one last solved with.
 const DAMPED_AFTER: usize = 4;
 
-/// `(a + b) / 2` pair by pair (a pair missing from one counts 0 there),
-/// for a problem of `n` asperities.
+/// `(1 − β) a + β b` pair by pair (a pair missing from one counts 0
+/// there), for a problem of `n` asperities.
 fn blend(
     a: &PairCorrection,
     b: &PairCorrection,
+    beta: f64,
     n: usize,
     xc: f64,
 ) -> Result<PairCorrection, RollingError> {
     let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
-    for &(i, j, c) in a.pairs().iter().chain(b.pairs()) {
-        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += 0.5 * c;
+    for (&(i, j, c), w) in a
+        .pairs()
+        .iter()
+        .map(|p| (p, 1.0 - beta))
+        .chain(b.pairs().iter().map(|p| (p, beta)))
+    {
+        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += w * c;
     }
     PairCorrection::new(n, sum.into_iter().map(|((i, j), c)| (i, j, c)).collect()).map_err(
         |source| RollingError::Solve {
