@@ -367,8 +367,9 @@ fn a_fixed_point_that_does_not_settle_is_its_step_s_failure() -> TestResult {
 }
 
 /// A rolling scenario on a small aggregate texture (as
-/// `tests/fidelity_rolling.rs`'s) runs on `calibrated_fields`, balanced at
-/// every step, and not as the point-coupled `calibrated` run; a
+/// `tests/fidelity_rolling.rs`'s, at 40 N so that several chippings touch)
+/// runs on `calibrated_fields`, balanced at every step, and not as the
+/// point-coupled `calibrated` run; a
 /// viscoelastic one refuses the rung by name.
 #[test]
 fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
@@ -379,7 +380,7 @@ fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
              [rolling]\nstart = \"13 mm\"\nend = \"15 mm\"\nstep = \"0.5 mm\"\nspeed = \"10 m/s\"\n\
              checkpoint = false\nthreads = 1\n\
              [rolling.tread]\nkind = \"block\"\nlength = \"20 mm\"\nwidth = \"16 mm\"\n\
-             [rolling.control]\nload = \"5 N\"\n\
+             [rolling.control]\nload = \"40 N\"\n\
              [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
              [texture.synth]\nkind = \"aggregate\"\nnx = 150\nny = 100\nspacing = \"0.2 mm\"\n\
              grading = \"4/6\"\nseed = 2006\n"
@@ -393,10 +394,11 @@ fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
         assert_eq!(run.status_counts()[2], 0, "{fidelity}: failed steps");
         for st in &run.result.steps {
             assert!(
-                (st.total_force - 5.0).abs() <= 1e-9 * 5.0,
+                (st.total_force - 40.0).abs() <= 1e-9 * 40.0,
                 "{}",
                 st.total_force
             );
+            assert!(st.contacts > 1, "{fidelity}: {} contacts", st.contacts);
         }
         Ok(run.result.steps.iter().map(|s| s.approach).collect())
     };
