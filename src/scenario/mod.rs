@@ -25,6 +25,7 @@ mod history;
 pub mod output;
 mod ranges;
 mod rolling;
+mod rolling_fields;
 mod rolling_spec;
 mod rolling_stream;
 mod spec;
@@ -45,8 +46,8 @@ pub use history::{
     SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario, write_history_csv,
 };
 pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
-pub(crate) use rolling::run_calibrated_fields;
 pub use rolling::{RoadSummary, RollingRun, Spectra};
+pub(crate) use rolling_fields::run_calibrated_fields;
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use rolling_stream::StreamedRun;
 pub use spec::{
