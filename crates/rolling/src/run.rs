@@ -364,6 +364,9 @@ fn run_chunk<L: ContactLaw + Sync>(
             // computes), else cold: its result does not depend on the start
             // to the solver tolerance.
             carry = states.get(&k).cloned();
+            // A coupled run's warm correction is not checkpointed: the
+            // next computed step starts its fixed point afresh.
+            scratch.correction.clear();
             continue;
         }
         let record = match solve_step(
