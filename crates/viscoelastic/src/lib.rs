@@ -63,15 +63,19 @@ mod prony;
 mod rolling;
 mod rolling_law;
 mod sphere;
+mod ting;
 
 pub use bem::{ViscoBem, ViscoBemStep};
 pub use bem_rolling::{StepHistory, TreadMemory};
-pub use compare::{Comparison, SphereField, compare_on_spheres};
+pub use compare::{Comparison, SphereField, compare_on_spheres, compare_on_spheres_with};
 pub use error::{ViscoError, significant};
 pub use fit::{MAX_PER_DECADE, MAX_RELAXATION_TIMES, MasterCurve, fit_prony, fit_prony_with_times};
-pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
+pub use history::{
+    Hereditary, ViscoStep, ramp_hold_unload, run_load_history, run_load_history_with,
+};
 pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
 pub use rolling::{
     DEFAULT_FADE, TrailingMemory, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
 };
 pub use sphere::{dawson, lee_radok_ramp_force};
+pub use ting::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding};
