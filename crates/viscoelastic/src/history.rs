@@ -231,6 +231,7 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
         let effective = self.material.long_term() + coefficients.iter().map(|c| c.1).sum::<f64>();
         for bands in &mut self.bands {
             bands.prepare(&coefficients);
+            bands.touching_depths(effective);
         }
         let material = self.material.elastic(effective)?;
         let positions = self.problem.positions();

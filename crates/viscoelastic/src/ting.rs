@@ -142,12 +142,18 @@ pub(crate) struct Bands {
     branch: Vec<f64>,
     /// `h_b` of the current step (N, ≤ 0).
     history: Vec<f64>,
+    /// Per band, a depth from which it surely touches in the current step
+    /// (`E_eff f_b + h_b ≥ 0`; `−∞` without memory): only the bands short
+    /// of theirs are looked at when the law is evaluated.
+    touching: Vec<f64>,
+    /// `Σ_b h_b` of the current step (N).
+    history_sum: f64,
 }
 
 impl Bands {
     /// The asperity's memory force `Σ_b h_b` of the current step (N).
     pub(crate) fn history_total(&self) -> f64 {
-        self.history.iter().sum()
+        self.history_sum
     }
 
     /// The elastic-equivalent force `w = Σ φ_b` (m²).
@@ -157,7 +163,8 @@ impl Bands {
 
     /// Sets every band's `h_b` for a step with `coefficients`
     /// (`(e^{−Δt/τ_k}, E_k γ_k)`); `h_b ≤ 0` while `φ ≥ 0`, so only rounding
-    /// is clipped.
+    /// is clipped. Also the depth from which each band surely touches: past
+    /// its upper level `f_b` is linear, so that depth is closed-form.
     pub(crate) fn prepare(&mut self, coefficients: &[(f64, f64)]) {
         let k = coefficients.len();
         for (b, h) in self.history.iter_mut().enumerate() {
@@ -167,6 +174,50 @@ impl Bands {
                 .map(|((decay, weight), q)| decay * q - weight * self.unit[b])
                 .sum();
             *h = value.min(0.0);
+        }
+        self.history_sum = self.history.iter().sum();
+    }
+
+    /// The depths from which each band surely touches at `effective`
+    /// (`E_eff`) for the step's memories.
+    pub(crate) fn touching_depths(&mut self, effective: f64) {
+        self.touching.clear();
+        let mut lower: Option<Level> = None;
+        for (level, &h) in self.levels.iter().zip(&self.history) {
+            let depth = if h >= 0.0 {
+                f64::NEG_INFINITY
+            } else {
+                // f_b at its upper level and its slope beyond.
+                let (f_lo, s_lo) = lower.map_or((0.0, 0.0), |l| {
+                    (l.force + l.slope * (level.depth - l.depth), l.slope)
+                });
+                let at_top = level.force - f_lo;
+                let slope = level.slope - s_lo;
+                let needed = -h / effective;
+                if at_top >= needed {
+                    level.depth
+                } else if slope > 0.0 {
+                    level.depth + (needed - at_top) / slope
+                } else {
+                    f64::INFINITY
+                }
+            };
+            self.touching.push(depth);
+            lower = Some(*level);
+        }
+    }
+
+    /// A step whose forces are unknown: every `φ_b` held, the branches
+    /// relax.
+    pub(crate) fn hold(&mut self, coefficients: &[(f64, f64)]) {
+        let k = coefficients.len();
+        for b in 0..self.unit.len() {
+            for ((decay, _), q) in coefficients
+                .iter()
+                .zip(&mut self.branch[b * k..(b + 1) * k])
+            {
+                *q *= decay;
+            }
         }
     }
 
@@ -193,6 +244,7 @@ impl Bands {
             });
             self.unit.push(0.0);
             self.history.push(0.0);
+            self.touching.push(f64::NEG_INFINITY);
             self.branch.extend(std::iter::repeat_n(0.0, branches));
         }
     }
@@ -250,6 +302,40 @@ pub(crate) struct BandLaw<'a, L> {
 }
 
 impl<L: ContactLaw> BandLaw<'_, L> {
+    /// The force and its slope: `E_eff f + Σ h_b` less what the bands out of
+    /// contact would pull, `Σ max(0, −(E_eff f_b + h_b))`, looked for only
+    /// among the bands short of the depth from which they surely touch (so
+    /// while every band touches, one law evaluation and a scan of that
+    /// list: the cost of an elastic law).
+    fn force_at(&self, depth: f64) -> (f64, f64) {
+        let point = self.inner.evaluate(depth);
+        let (f, s) = (
+            point.force / self.reference,
+            point.stiffness / self.reference,
+        );
+        let e = self.effective;
+        let bands = self.bands;
+        let mut force = e * f + bands.history_sum;
+        let mut slope = e * s;
+        for (b, &touching) in bands.touching.iter().enumerate() {
+            if depth >= touching {
+                continue;
+            }
+            let upper = bands.levels[b].inner(depth, f, s);
+            let lower = if b == 0 {
+                (0.0, 0.0)
+            } else {
+                bands.levels[b - 1].inner(depth, f, s)
+            };
+            let p = e * (upper.0 - lower.0) + bands.history[b];
+            if p < 0.0 {
+                force -= p;
+                slope -= e * (upper.1 - lower.1);
+            }
+        }
+        (force.max(0.0), slope.max(0.0))
+    }
+
     /// The force, its slope, and the depth of the outermost band carrying.
     fn bands_at(&self, depth: f64) -> (f64, f64, f64) {
         let point = self.inner.evaluate(depth);
@@ -289,7 +375,7 @@ impl<L: ContactLaw> ContactLaw for BandLaw<'_, L> {
                 stiffness: 0.0,
             };
         }
-        let (force, stiffness, _) = self.bands_at(depth);
+        let (force, stiffness) = self.force_at(depth);
         LawPoint { force, stiffness }
     }
 
@@ -359,6 +445,8 @@ mod tests {
         // until its own springs are pressed past that memory.
         let last = bands.levels.len() - 1;
         bands.history[last] = -1e3;
+        bands.history_sum = -1e3;
+        bands.touching_depths(1e6);
         let law_now = BandLaw {
             inner: &law,
             reference: 1e6,

@@ -159,14 +159,8 @@ fn while_every_contact_grows_ting_is_lee_radok() {
         .map(|j| (1e-4 * j as f64, 10.0 * j as f64))
         .collect();
     let options = SolverOptions::default();
-    let lee = run_load_history_with(
-        &problem,
-        tread(),
-        options.clone(),
-        Receding::LeeRadok,
-        &samples,
-    )
-    .expect("Lee–Radok");
+    let lee = run_load_history_with(&problem, tread(), options, Receding::LeeRadok, &samples)
+        .expect("Lee–Radok");
     let ting = run_load_history_with(&problem, tread(), options, TING, &samples).expect("Ting");
     for (k, (a, b)) in ting.iter().zip(&lee).enumerate() {
         assert_eq!(a.receding, 0);
