@@ -186,6 +186,9 @@ impl Bands {
         for (level, &h) in self.levels.iter().zip(&self.history) {
             let depth = if h >= 0.0 {
                 f64::NEG_INFINITY
+            } else if level.depth == f64::INFINITY {
+                // One band for the whole law: always looked at.
+                f64::INFINITY
             } else {
                 // f_b at its upper level and its slope beyond.
                 let (f_lo, s_lo) = lower.map_or((0.0, 0.0), |l| {
@@ -230,23 +233,57 @@ impl Bands {
         per_decade: usize,
         branches: usize,
     ) {
-        if !depth.is_finite() {
+        if !depth.is_finite() || self.levels.last().is_some_and(|l| l.depth == f64::INFINITY) {
             return;
         }
         while self.levels.last().is_none_or(|l| l.depth < depth) {
             let j = self.levels.len() as f64;
             let level = BAND_FLOOR * 10f64.powf(j / per_decade as f64);
             let point = law.evaluate(level);
+            let slope = point.stiffness / reference;
+            if self
+                .levels
+                .last()
+                .is_some_and(|l| slope < l.slope * (1.0 - 1e-9))
+            {
+                self.make_whole(branches);
+                return;
+            }
             self.levels.push(Level {
                 depth: level,
                 force: point.force / reference,
-                slope: point.stiffness / reference,
+                slope,
             });
             self.unit.push(0.0);
             self.history.push(0.0);
             self.touching.push(f64::NEG_INFINITY);
             self.branch.extend(std::iter::repeat_n(0.0, branches));
         }
+    }
+
+    /// A law whose slope falls between two levels is not convex: its bands
+    /// would not all be non-negative, so the asperity's bands are merged
+    /// into one (the states add up: the recursion is linear) spanning every
+    /// depth, which is Lee–Radok's recursion clipped at zero for that
+    /// asperity.
+    fn make_whole(&mut self, branches: usize) {
+        let mut branch = vec![0.0; branches];
+        for (b, q) in self.branch.chunks(branches.max(1)).enumerate() {
+            if b < self.unit.len() {
+                for (sum, v) in branch.iter_mut().zip(q) {
+                    *sum += v;
+                }
+            }
+        }
+        self.levels = vec![Level {
+            depth: f64::INFINITY,
+            force: 0.0,
+            slope: 0.0,
+        }];
+        self.unit = vec![self.unit.iter().sum()];
+        self.history = vec![self.history_sum];
+        self.touching = vec![f64::NEG_INFINITY];
+        self.branch = branch;
     }
 
     /// Ends a step at interpenetration `depth`: adds the bands reached,
@@ -434,6 +471,58 @@ mod tests {
         }
         assert_eq!(full.evaluate(0.0).force, 0.0);
         assert_eq!(full.evaluate(-1.0).stiffness, 0.0);
+    }
+
+    /// `P = E_ref √δ` (m² per unit modulus at δ in m): concave.
+    struct Concave;
+
+    impl ContactLaw for Concave {
+        fn evaluate(&self, depth: f64) -> LawPoint {
+            if depth > 0.0 {
+                LawPoint {
+                    force: 1e6 * depth.sqrt(),
+                    stiffness: 0.5e6 / depth.sqrt(),
+                }
+            } else {
+                LawPoint {
+                    force: 0.0,
+                    stiffness: 0.0,
+                }
+            }
+        }
+        fn local_contact(&self, force: f64, _depth: f64) -> LocalContact {
+            LocalContact {
+                force,
+                ..LocalContact::NONE
+            }
+        }
+    }
+
+    #[test]
+    fn a_law_that_is_not_convex_keeps_one_band_for_all_depths() {
+        let mut bands = Bands::default();
+        let coefficients = [(0.5, 2e6)];
+        bands.prepare(&coefficients);
+        bands.touching_depths(3e6);
+        let p = bands.advance(1e-4, &Concave, 1e6, 3e6, &coefficients, 20);
+        assert_eq!(bands.levels.len(), 1);
+        assert!((p - 3e6 * 1e-2).abs() < 1e-9 * p, "{p}");
+        // Next step: the whole law with the whole memory, Lee–Radok's
+        // recursion clipped at zero.
+        bands.prepare(&coefficients);
+        bands.touching_depths(3e6);
+        let h = bands.history_total();
+        assert!(h < 0.0);
+        let law = BandLaw {
+            inner: &Concave,
+            reference: 1e6,
+            effective: 3e6,
+            bands: &bands,
+        };
+        let depth: f64 = 0.5e-4;
+        let expected = (3e6 * depth.sqrt() + h).max(0.0);
+        assert!((law.evaluate(depth).force - expected).abs() <= 1e-9 * expected.max(1.0));
+        assert_eq!(law.evaluate(1e-12).force, 0.0);
     }
 
     #[test]
