@@ -276,3 +276,38 @@ fn an_elastic_history_refusal_names_the_file() {
         "{err}"
     );
 }
+
+#[test]
+fn a_rolling_receding_treatment_other_than_lee_radok_or_ting_is_that_run_s_error() {
+    let options = RunOptions::new(env!("CARGO_MANIFEST_DIR"));
+    let run = |value: &str| {
+        let text = rolling_with(&series_with(&format!("receding = \"{value}\"\n")));
+        let scenario = Scenario::parse(&text, ORIGIN).expect("parses");
+        scenario
+            .roll_viscoelastic(&options, &[ViscoCase::default()])
+            .expect("the road")
+            .remove(0)
+    };
+    let error = run("bergstrom").expect_err("refused").to_string();
+    assert!(
+        error.contains("[material.viscoelastic] receding") && error.contains("bergstrom"),
+        "{error}"
+    );
+    // Both treatments run, and differ where patches recede (the approach
+    // under load control, the force under approach control).
+    let signal = |value: &str| -> Vec<f64> {
+        let run = run(value).expect("runs");
+        run.result
+            .steps
+            .iter()
+            .map(|s| s.approach + s.total_force)
+            .collect()
+    };
+    let (ting, lee) = (signal("ting"), signal("lee_radok"));
+    assert_eq!(ting.len(), lee.len());
+    assert!(
+        ting.iter()
+            .zip(&lee)
+            .any(|(t, l)| (t - l).abs() > 1e-9 * l.abs())
+    );
+}

@@ -7,6 +7,8 @@
 //! ```toml
 //! [static.history]
 //! steps = 10              # steps per segment (default 10)
+//! receding = "ting"       # or "lee_radok" (default "ting")
+//! bands_per_decade = 20   # Ting's depth bands (default 20, 1 to 1000)
 //!
 //! [[static.history.segment]]
 //! duration = "2 ms"       # a ramp from 0 to 100 N
@@ -28,7 +30,9 @@
 //! `[material]`.
 
 use serde::Deserialize;
-use tyreroad_viscoelastic::{Hereditary, Prony, ViscoStep};
+use tyreroad_viscoelastic::{
+    DEFAULT_BANDS_PER_DECADE, Hereditary, MAX_BANDS_PER_DECADE, Prony, Receding, ViscoStep,
+};
 
 use super::output::{OutputSet, fmt};
 use super::ranges::{LOAD_RANGE, in_range};
@@ -44,6 +48,23 @@ pub struct HistorySpec {
     /// The segments, in time order.
     #[serde(rename = "segment", default)]
     pub segments: Vec<SegmentSpec>,
+    /// How receding contacts are treated (default Ting's).
+    pub receding: Option<RecedingSpec>,
+    /// Ting's depth bands per decade of interpenetration (default
+    /// [`DEFAULT_BANDS_PER_DECADE`]).
+    pub bands_per_decade: Option<usize>,
+}
+
+/// `[static.history] receding`: the treatment of a contact that recedes
+/// (docs/viscoelastic.md, "Receding contacts: Ting's treatment").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecedingSpec {
+    /// Ting's treatment by depth bands ([`Receding::Ting`]).
+    Ting,
+    /// Lee–Radok's recursion on the whole force, also while receding
+    /// ([`Receding::LeeRadok`]).
+    LeeRadok,
 }
 
 /// `[[static.history.segment]]`: a linear change of the load.
@@ -70,6 +91,34 @@ pub const MAX_HISTORY_STEPS: usize = tyreroad_rolling::MAX_STEPS;
 pub const SEGMENT_DURATION_RANGE: [f64; 2] = [1e-9, 1e9];
 
 impl HistorySpec {
+    /// The treatment of receding contacts.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming `[static.history] bands_per_decade`
+    /// outside `1..=1000`, or given with `receding = "lee_radok"` (which has
+    /// no bands, so the value would be dropped without a word).
+    pub fn receding(&self) -> Result<Receding, ScenarioError> {
+        let bands = |expected: &str| ScenarioError::Value {
+            key: "[static.history] bands_per_decade".into(),
+            value: self.bands_per_decade.unwrap_or(0).to_string(),
+            expected: expected.into(),
+        };
+        match (self.receding, self.bands_per_decade) {
+            (Some(RecedingSpec::LeeRadok), Some(_)) => Err(bands(
+                "no value with receding = \"lee_radok\" (bands are Ting's)",
+            )),
+            (Some(RecedingSpec::LeeRadok), None) => Ok(Receding::LeeRadok),
+            (_, per_decade) => {
+                let per_decade = per_decade.unwrap_or(DEFAULT_BANDS_PER_DECADE);
+                if (1..=MAX_BANDS_PER_DECADE).contains(&per_decade) {
+                    Ok(Receding::Ting { per_decade })
+                } else {
+                    Err(bands(&format!("from 1 to {MAX_BANDS_PER_DECADE}")))
+                }
+            }
+        }
+    }
+
     /// The history as `(time (s), load (N))` samples after time 0.
     ///
     /// # Errors
@@ -79,6 +128,9 @@ impl HistorySpec {
     /// [`MAX_HISTORY_STEPS`] steps in all, or a step too short to advance
     /// the time after the segments before it (a nanosecond after 30 years).
     pub fn samples(&self) -> Result<Vec<(f64, f64)>, ScenarioError> {
+        // The whole section is checked when the file is read, which calls
+        // this: the receding keys too.
+        self.receding()?;
         let value = |key: String, value: String, expected: &str| ScenarioError::Value {
             key,
             value,
@@ -229,12 +281,18 @@ pub fn run_load_history_scenario(
     }
     let samples = history.samples()?;
     let problem = scenario.problem()?;
-    let mut solver = Hereditary::new(&problem, material.clone(), scenario.solver_options())
-        .map_err(|e| ScenarioError::Value {
-            key: "[material] poisson_ratio".into(),
-            value: e.to_string(),
-            expected: "the viscoelastic tread's Poisson's ratio".into(),
-        })?;
+    let receding = history.receding()?;
+    let mut solver = Hereditary::with_receding(
+        &problem,
+        material.clone(),
+        scenario.solver_options(),
+        receding,
+    )
+    .map_err(|e| ScenarioError::Value {
+        key: "[material] poisson_ratio".into(),
+        value: e.to_string(),
+        expected: "the viscoelastic tread's Poisson's ratio".into(),
+    })?;
     // Stepped here rather than by `run_load_history` so that a failing step
     // ends the run as a recorded failure and keeps the steps before it.
     let mut steps = Vec::with_capacity(samples.len());

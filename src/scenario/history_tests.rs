@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::scenario::{Scenario, run_static};
-use tyreroad_viscoelastic::Branch;
+use tyreroad_viscoelastic::{Branch, Receding};
 
 /// Three spheres at 12 mm pitch with summits 0, −20 and −40 µm.
 fn scenario(modulus: &str, history: &str) -> String {
@@ -198,4 +198,52 @@ fn a_history_with_a_viscoelastic_material_runs_from_the_scenario() {
         assert!(a.forces.iter().zip(&b.forces).all(|(x, y)| close(*x, *y)));
     }
     assert_eq!(from_run.steps.len(), 20);
+}
+
+/// `[static.history] receding` selects the treatment: unloading the three
+/// spheres to 0.4 N (2 % of the peak), Lee–Radok's recursion over-relaxes
+/// (a deeper approach than Ting's at the same load), and the keys are
+/// checked when the file is read.
+#[test]
+fn receding_selects_ting_or_lee_radok_and_is_checked() {
+    let deep = |receding: &str| {
+        let text = history("2 ms").replace("load = \"12 N\"", "load = \"0.4 N\"");
+        let text = text.replacen("steps = 8\n", &format!("steps = 8\n{receding}"), 1);
+        Scenario::parse(&scenario("6 MPa", &text), "test")
+    };
+    let history_of = |s: &Scenario| {
+        s.static_case
+            .as_ref()
+            .and_then(|c| c.history.as_ref())
+            .expect("history")
+            .receding()
+            .expect("valid")
+    };
+    let ting = deep("").expect("parses");
+    let lee = deep("receding = \"lee_radok\"\n").expect("parses");
+    let fine = deep("receding = \"ting\"\nbands_per_decade = 40\n").expect("parses");
+    assert_eq!(history_of(&ting), Receding::Ting { per_decade: 20 });
+    assert_eq!(history_of(&lee), Receding::LeeRadok);
+    assert_eq!(history_of(&fine), Receding::Ting { per_decade: 40 });
+    let end = |s: &Scenario| {
+        let r = run_load_history_scenario(s, Some(&tread())).expect("runs");
+        assert!(r.failure.is_none(), "{:?}", r.failure);
+        r.steps.last().expect("steps").approach
+    };
+    let (t, l, f) = (end(&ting), end(&lee), end(&fine));
+    assert!(l > 1.02 * t, "Lee–Radok {l} vs Ting {t}");
+    assert!((f - t).abs() < 0.01 * t, "40 bands {f} vs 20 {t}");
+    for bad in [
+        "bands_per_decade = 0\n",
+        "receding = \"lee_radok\"\nbands_per_decade = 20\n",
+    ] {
+        let error = deep(bad).expect_err("refused");
+        assert!(
+            error
+                .to_string()
+                .contains("[static.history] bands_per_decade"),
+            "{error}"
+        );
+    }
+    assert!(deep("receding = \"bergstrom\"\n").is_err());
 }

@@ -43,7 +43,8 @@ pub use bem::{
 pub use error::ScenarioError;
 pub use history::{
     DEFAULT_SEGMENT_STEPS, HistoryResult, HistorySpec, HistoryStep, MAX_HISTORY_STEPS,
-    SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario, write_history_csv,
+    RecedingSpec, SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario,
+    write_history_csv,
 };
 pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use rolling::{RoadSummary, RollingRun, Spectra};

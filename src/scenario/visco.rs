@@ -12,8 +12,8 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
-    Branch, MAX_PER_DECADE, MasterCurve, Prony, TemperatureShift, TrailingMemory, ViscoError,
-    ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic, significant,
+    Branch, MAX_PER_DECADE, MasterCurve, Prony, Receding, TemperatureShift, TrailingMemory,
+    ViscoError, ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic, significant,
 };
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
@@ -139,6 +139,9 @@ pub struct ViscoSpec {
     /// memory, as in the viscoelastic rolling BEM) or `"kept"` (Hunter's
     /// half-space attached to the road behind the footprint).
     pub trailing_memory: Option<String>,
+    /// In rolling, a patch that shrinks while touching: `"lee_radok"`
+    /// (default) or `"ting"` (depth bands, 20 per decade).
+    pub receding: Option<String>,
 }
 
 /// `[[material.viscoelastic.branch]]`.
@@ -391,6 +394,18 @@ impl ViscoSpec {
         }
     }
 
+    fn receding(&self) -> Result<Receding, ScenarioError> {
+        match self.receding.as_deref() {
+            None | Some("lee_radok") => Ok(Receding::LeeRadok),
+            Some("ting") => Ok(Receding::default()),
+            Some(other) => Err(ScenarioError::Value {
+                key: "[material.viscoelastic] receding".into(),
+                value: format!("{other:?}"),
+                expected: "\"lee_radok\" or \"ting\"".into(),
+            }),
+        }
+    }
+
     fn trailing(&self) -> Result<TrailingMemory, ScenarioError> {
         match self.trailing_memory.as_deref() {
             None | Some("lifts_off") => Ok(TrailingMemory::LiftsOff),
@@ -612,6 +627,7 @@ impl Sweep<'_> {
         let options = ViscoRollOptions {
             start: self.visco.start()?,
             trailing: self.visco.trailing()?,
+            receding: self.visco.receding()?,
             progress: self.options.progress,
             ..ViscoRollOptions::default()
         };
@@ -746,7 +762,7 @@ reference = "20 degC"
         assert!(err.contains("shift"), "{err}");
         let sticky = small(&VISCO.replace(
             "[material.viscoelastic]\n",
-            "[material.viscoelastic]\ntrailing_memory = \"glued\"\n",
+            "[material.viscoelastic]\ntrailing_memory = \"glued\"\nreceding = \"ting\"\n",
         ));
         let err = sticky
             .roll_viscoelastic(&options, &[ViscoCase::default()])

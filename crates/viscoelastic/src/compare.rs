@@ -8,7 +8,9 @@ use tyreroad_contact_law::PotentialLaw;
 use tyreroad_core::Grid;
 use tyreroad_multipoint::{Problem, SolverOptions};
 
-use crate::{Prony, ViscoBem, ViscoError, run_load_history};
+#[cfg(doc)]
+use crate::run_load_history;
+use crate::{Prony, Receding, ViscoBem, ViscoError, run_load_history_with};
 
 /// A square field of equal spheres: `side × side` summits of radius `radius`
 /// (m) at `pitch` (m), summit heights lowered by `gaps` (m, row-major,
@@ -61,7 +63,8 @@ impl Comparison {
     }
 }
 
-/// Runs `samples` (`(time, load)`) on `field` with both methods.
+/// Runs `samples` (`(time, load)`) on `field` with both methods, the model
+/// with the default treatment of receding contacts ([`Receding::default`]).
 ///
 /// # Errors
 /// As [`run_load_history`] and [`ViscoBem::step_load`];
@@ -69,6 +72,20 @@ impl Comparison {
 pub fn compare_on_spheres(
     field: &SphereField,
     material: &Prony,
+    samples: &[(f64, f64)],
+) -> Result<Comparison, ViscoError> {
+    compare_on_spheres_with(field, material, Receding::default(), samples)
+}
+
+/// As [`compare_on_spheres`], the model treating receding contacts by
+/// `receding`.
+///
+/// # Errors
+/// As [`compare_on_spheres`].
+pub fn compare_on_spheres_with(
+    field: &SphereField,
+    material: &Prony,
+    receding: Receding,
     samples: &[(f64, f64)],
 ) -> Result<Comparison, ViscoError> {
     let n = field.side * field.side;
@@ -100,10 +117,11 @@ pub fn compare_on_spheres(
             time: 0.0,
             source,
         })?;
-    let model = run_load_history(
+    let model = run_load_history_with(
         &problem,
         material.clone(),
         SolverOptions::default(),
+        receding,
         samples,
     )?;
 

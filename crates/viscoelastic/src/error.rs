@@ -100,11 +100,12 @@ pub enum ViscoError {
         /// Iterations spent.
         iterations: usize,
     },
-    /// Under load control, the relaxing history alone carries more than the
-    /// load: the tread would separate, a receding contact this crate does not
-    /// model (Ting's treatment, docs/viscoelastic.md).
+    /// Under load control with [`crate::Receding::LeeRadok`], the relaxing
+    /// history alone carries more than the load: the tread would separate, a
+    /// receding contact that recursion cannot carry ([`crate::Receding::Ting`]
+    /// can; docs/viscoelastic.md).
     #[error(
-        "hereditary step {step} (t = {time} s): the load {load} N is below the relaxing history's {history} N (receding contact not modelled)"
+        "hereditary step {step} (t = {time} s): the load {load} N is below the relaxing history's {history} N (Lee–Radok's recursion cannot recede that far: use Ting's treatment)"
     )]
     Separation {
         /// 0-based step index.

@@ -31,18 +31,32 @@
 //!
 //! When an asperity's unit force decreases (unloading, the trailing edge in
 //! rolling) Lee–Radok no longer holds: Ting (1966) makes the force depend on
-//! the history of the contact radius. This module does **not** implement
-//! Ting's treatment; it applies the same recursion (which then over-predicts
-//! the relaxation of the unloading force and can give tension) and counts
-//! the receding asperities of every step ([`ViscoStep::receding`]) so a
-//! caller knows which steps are approximate. A load that the relaxing history
-//! alone already exceeds (the tread would separate) is refused with
-//! [`ViscoError::Separation`].
+//! the history of the contact radius. [`Receding`] chooses the treatment:
+//!
+//! - [`Receding::Ting`] (the default) cuts each asperity's law into depth
+//!   bands of independent springs with their own branch variables
+//!   ([`crate::ting`], the method of dimensionality reduction). A band leaves
+//!   contact when its force would turn negative and recovers on its own.
+//!   Each step is then one elastic multipoint problem of modulus `E_eff`
+//!   whose gaps are raised by the memory's displacement
+//!   (`H_i + Σ_{j≠i} T^eff_ij (−h_j)`, `h_j = Σ_b h_jb ≤ 0`) and whose laws
+//!   are the band sums: the solver's own Newton settles which bands touch,
+//!   so a step that does not settle is that step's [`ViscoError::Solve`].
+//!   While every band stays in contact this is the Lee–Radok recursion term
+//!   by term.
+//! - [`Receding::LeeRadok`] applies the recursion above to the whole force,
+//!   also while it recedes: it over-relaxes near separation, and a load
+//!   that the relaxing history alone already exceeds is refused with
+//!   [`ViscoError::Separation`].
+//!
+//! Either way every step counts the asperities whose elastic-equivalent
+//! force fell ([`ViscoStep::receding`]).
 
 use tyreroad_contact_law::ContactLaw;
-use tyreroad_multipoint::{Control, Problem, Solution, SolverOptions, solve_from};
+use tyreroad_multipoint::{Boussinesq, Control, Par, Problem, Solution, SolverOptions, solve_from};
 
 use crate::error::{non_negative, positive};
+use crate::ting::{BandLaw, Bands, Receding};
 use crate::{Prony, ViscoError};
 
 /// One step of a hereditary solve.
@@ -54,8 +68,9 @@ pub struct ViscoStep {
     pub approach: f64,
     /// Asperity forces (N).
     pub forces: Vec<f64>,
-    /// Asperities whose unit-modulus force decreased over the step: there
-    /// the recursion is the documented approximation, not Lee–Radok.
+    /// Asperities whose elastic-equivalent force decreased over the step:
+    /// receding patches (Lee–Radok's recursion is then an approximation;
+    /// [`Receding::Ting`] treats them).
     pub receding: usize,
 }
 
@@ -78,15 +93,19 @@ pub struct Hereditary<'a, L> {
     step: usize,
     /// `f_i,n` (m²).
     unit_forces: Vec<f64>,
-    /// `q_ik,n` (N), asperity-major.
+    /// `q_ik,n` (N), asperity-major (Lee–Radok only).
     branch_forces: Vec<f64>,
     previous: Option<Solution>,
+    receding: Receding,
+    /// Per asperity, its depth bands (Ting only).
+    bands: Vec<Bands>,
 }
 
 impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
-    /// A solver at rest (no contact, no history) at time 0. `problem`'s laws
-    /// and material are any elastic reference (its Young's modulus is divided
-    /// out); its Poisson's ratio must be the material's.
+    /// A solver at rest (no contact, no history) at time 0 with the default
+    /// treatment of receding contacts ([`Receding::default`]). `problem`'s
+    /// laws and material are any elastic reference (its Young's modulus is
+    /// divided out); its Poisson's ratio must be the material's.
     ///
     /// # Errors
     /// [`ViscoError::InvalidValue`] when the Poisson's ratios differ.
@@ -95,6 +114,22 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
         material: Prony,
         options: SolverOptions,
     ) -> Result<Self, ViscoError> {
+        Self::with_receding(problem, material, options, Receding::default())
+    }
+
+    /// As [`Hereditary::new`], with the treatment of receding contacts
+    /// `receding`.
+    ///
+    /// # Errors
+    /// [`ViscoError::InvalidValue`] when the Poisson's ratios differ or for a
+    /// band count out of range ([`Receding::check`]).
+    pub fn with_receding(
+        problem: &'a Problem<L>,
+        material: Prony,
+        options: SolverOptions,
+        receding: Receding,
+    ) -> Result<Self, ViscoError> {
+        let receding = receding.check()?;
         let nu = problem.material().poisson_ratio();
         if (nu - material.poisson_ratio()).abs() > 1e-12 {
             return Err(ViscoError::InvalidValue {
@@ -115,7 +150,17 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
             unit_forces: vec![0.0; n],
             branch_forces: vec![0.0; n * branches],
             previous: None,
+            receding,
+            bands: match receding {
+                Receding::LeeRadok => Vec::new(),
+                Receding::Ting { .. } => vec![Bands::default(); n],
+            },
         })
+    }
+
+    /// The treatment of receding contacts.
+    pub fn receding(&self) -> Receding {
+        self.receding
     }
 
     /// Time reached (s).
@@ -127,10 +172,13 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
     ///
     /// # Errors
     /// [`ViscoError::InvalidValue`] for `dt ≤ 0` or a negative load,
-    /// [`ViscoError::Separation`], [`ViscoError::Solve`].
+    /// [`ViscoError::Separation`] (Lee–Radok only), [`ViscoError::Solve`].
     pub fn step_load(&mut self, dt: f64, load: f64) -> Result<ViscoStep, ViscoError> {
         positive("time step (s)", dt)?;
         non_negative("load (N)", load)?;
+        if let Receding::Ting { per_decade } = self.receding {
+            return self.advance_ting(dt, Control::Load(load), per_decade);
+        }
         let (effective, history) = self.history(dt);
         let total_history: f64 = history.iter().sum();
         let target = (load - total_history) / effective;
@@ -160,8 +208,99 @@ impl<'a, L: ContactLaw + Sync> Hereditary<'a, L> {
                 expected: "finite",
             });
         }
+        if let Receding::Ting { per_decade } = self.receding {
+            return self.advance_ting(dt, Control::Approach(approach), per_decade);
+        }
         let (effective, history) = self.history(dt);
         self.advance(dt, Control::Approach(approach), effective, &history)
+    }
+
+    /// One step under Ting's treatment: the elastic problem of modulus
+    /// `E_eff` on the gaps raised by the memory, with the band laws
+    /// (module docs), then every band advanced at its asperity's solved
+    /// interpenetration.
+    fn advance_ting(
+        &mut self,
+        dt: f64,
+        control: Control,
+        per_decade: usize,
+    ) -> Result<ViscoStep, ViscoError> {
+        let time = self.time + dt;
+        let solve_error = |step, source| ViscoError::Solve { step, time, source };
+        let coefficients = step_coefficients(&self.material, dt);
+        let effective = self.material.long_term() + coefficients.iter().map(|c| c.1).sum::<f64>();
+        for bands in &mut self.bands {
+            bands.prepare(&coefficients);
+            bands.touching_depths(effective);
+        }
+        let material = self.material.elastic(effective)?;
+        let positions = self.problem.positions();
+        let coupling = Boussinesq::new(positions, material.boussinesq_factor());
+        // The memory (h ≤ 0) displaces the surface as a force −h would.
+        let memory: Vec<f64> = self.bands.iter().map(|b| -b.history_total()).collect();
+        let mut raise = vec![0.0; memory.len()];
+        coupling.apply(&memory, &mut raise, Par::Seq);
+        let gaps: Vec<f64> = self
+            .problem
+            .gaps()
+            .iter()
+            .zip(&raise)
+            .map(|(h, r)| h + r)
+            .collect();
+        let initial = self.previous.as_ref().map(|s| {
+            let mut u = vec![0.0; s.forces.len()];
+            coupling.apply(&s.forces, &mut u, Par::Seq);
+            let depths = gaps
+                .iter()
+                .zip(&u)
+                .map(|(h, u)| s.approach - h - u)
+                .collect();
+            Solution::warm_start(s.forces.clone(), depths, s.approach)
+        });
+        let laws = self
+            .problem
+            .laws()
+            .iter()
+            .zip(&self.bands)
+            .map(|(inner, bands)| BandLaw {
+                inner,
+                reference: self.reference_modulus,
+                effective,
+                bands,
+            })
+            .collect();
+        let step_problem = Problem::new(positions.to_vec(), gaps, laws, material)
+            .map_err(|e| solve_error(self.step, e))?;
+        let solution = solve_from(&step_problem, control, &self.options, initial.as_ref())
+            .map_err(|e| solve_error(self.step, e))?;
+        drop(step_problem);
+        let mut receding = 0;
+        for (i, bands) in self.bands.iter_mut().enumerate() {
+            let old = bands.unit_total();
+            bands.advance(
+                solution.depths[i],
+                &self.problem.laws()[i],
+                self.reference_modulus,
+                effective,
+                &coefficients,
+                per_decade,
+            );
+            let unit = bands.unit_total();
+            if unit < old * (1.0 - 1e-9) {
+                receding += 1;
+            }
+            self.unit_forces[i] = unit;
+        }
+        self.time = time;
+        self.step += 1;
+        let step = ViscoStep {
+            time,
+            approach: solution.approach,
+            forces: solution.forces.clone(),
+            receding,
+        };
+        self.previous = Some(solution);
+        Ok(step)
     }
 
     /// `E_eff` and every asperity's `h_i` for a step of `dt`.
@@ -280,7 +419,22 @@ pub fn run_load_history<L: ContactLaw + Sync>(
     options: SolverOptions,
     samples: &[(f64, f64)],
 ) -> Result<Vec<ViscoStep>, ViscoError> {
-    let mut solver = Hereditary::new(problem, material, options)?;
+    run_load_history_with(problem, material, options, Receding::default(), samples)
+}
+
+/// As [`run_load_history`], with the treatment of receding contacts
+/// `receding`.
+///
+/// # Errors
+/// As [`run_load_history`]; [`Receding::check`].
+pub fn run_load_history_with<L: ContactLaw + Sync>(
+    problem: &Problem<L>,
+    material: Prony,
+    options: SolverOptions,
+    receding: Receding,
+    samples: &[(f64, f64)],
+) -> Result<Vec<ViscoStep>, ViscoError> {
+    let mut solver = Hereditary::with_receding(problem, material, options, receding)?;
     let mut steps = Vec::with_capacity(samples.len());
     for &(time, load) in samples {
         let dt = time - solver.time();

@@ -25,8 +25,15 @@
 //! Its invariants, tested: very slow loading gives the elastic solution with
 //! `E∞`, very fast loading the one with `E∞ + Σ E_k`; a sphere pressed at
 //! constant rate follows the closed form [`lee_radok_ramp_force`].
-//! Receding contacts (Ting 1966) are not modelled: such steps are counted in
-//! [`ViscoStep::receding`].
+//! Receding contacts (Ting 1966, [`Receding`]): by default each asperity's
+//! law is cut into depth bands of independent springs, each with its own
+//! memory (the method of dimensionality reduction, exact for axisymmetric
+//! contact): a band leaves contact when its force would turn negative and
+//! recovers on its own, and while every band touches the step is Lee–Radok's
+//! recursion term by term. Tested against Ting's closed form for a sphere
+//! pressed and withdrawn, and against the viscoelastic BEM through unloading
+//! to 1 % of the peak. [`Receding::LeeRadok`] keeps the recursion on the
+//! whole force, which over-relaxes near separation.
 //!
 //! # The reference
 //!
@@ -63,15 +70,19 @@ mod prony;
 mod rolling;
 mod rolling_law;
 mod sphere;
+mod ting;
 
 pub use bem::{ViscoBem, ViscoBemStep};
 pub use bem_rolling::{StepHistory, TreadMemory};
-pub use compare::{Comparison, SphereField, compare_on_spheres};
+pub use compare::{Comparison, SphereField, compare_on_spheres, compare_on_spheres_with};
 pub use error::{ViscoError, significant};
 pub use fit::{MAX_PER_DECADE, MAX_RELAXATION_TIMES, MasterCurve, fit_prony, fit_prony_with_times};
-pub use history::{Hereditary, ViscoStep, ramp_hold_unload, run_load_history};
+pub use history::{
+    Hereditary, ViscoStep, ramp_hold_unload, run_load_history, run_load_history_with,
+};
 pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
 pub use rolling::{
     DEFAULT_FADE, TrailingMemory, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
 };
 pub use sphere::{dawson, lee_radok_ramp_force};
+pub use ting::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding};

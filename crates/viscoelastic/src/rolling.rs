@@ -61,10 +61,14 @@
 //! way the start is a transient about one footprint length long
 //! ([`ViscoRolling::transient_steps`]).
 //!
-//! Within a patch, `w_i = P^law(δ_i)/E_ref` is Lee–Radok's replacement and
-//! holds while the patch grows; a patch that shrinks while still touching
-//! (the trailing edge) would need Ting's treatment, which is not made: such
-//! steps are counted ([`ViscoRolling::receding`]). Between asperities the
+//! Within a patch ([`ViscoRollOptions::receding`]): with
+//! [`Receding::LeeRadok`] (the default here), `w_i = P^law(δ_i)/E_ref` is
+//! Lee–Radok's replacement and holds while the patch grows, and a patch that
+//! shrinks while still touching (the trailing edge) keeps it; with
+//! [`Receding::Ting`] each asperity's law is cut into depth bands with their
+//! own memory ([`crate::ting`]), `p_i` and `w_i` are the band sums and `h_i`
+//! their memories', the rest of the step unchanged. Shrinking patches are
+//! counted either way ([`ViscoRolling::receding`]). Between asperities the
 //! complementarity is exact: an asperity whose memory keeps the tread away
 //! simply carries nothing.
 
@@ -79,8 +83,9 @@ use tyreroad_rolling::{
 };
 
 use crate::history::step_coefficients;
-use crate::rolling_law::MemoryLaw;
-use crate::{Prony, ViscoError};
+use crate::rolling_law::{MemoryLaw, StepLaw};
+use crate::ting::{BandLaw, Bands};
+use crate::{Prony, Receding, ViscoError};
 
 /// Default memory threshold: with [`TrailingMemory::Kept`], an asperity
 /// behind the footprint is forgotten once its memory is below this fraction
@@ -130,6 +135,9 @@ pub struct ViscoRollOptions<'a> {
     /// Called after each step; `ControlFlow::Break(())` stops the run with
     /// [`RollingError::Interrupted`].
     pub progress: Option<ProgressFn<'a>>,
+    /// How a patch that shrinks while touching is treated (default
+    /// [`Receding::LeeRadok`] in rolling).
+    pub receding: Receding,
 }
 
 impl Default for ViscoRollOptions<'_> {
@@ -139,6 +147,7 @@ impl Default for ViscoRollOptions<'_> {
             start: ViscoStart::Fresh,
             trailing: TrailingMemory::LiftsOff,
             progress: None,
+            receding: Receding::LeeRadok,
         }
     }
 }
@@ -191,6 +200,7 @@ pub fn roll_viscoelastic<L: ContactLaw + Sync>(
             expected: "equal to the viscoelastic tread's",
         });
     }
+    options.receding.check()?;
     if !(options.fade.is_finite() && (0.0..1.0).contains(&options.fade)) {
         return Err(ViscoError::InvalidValue {
             name: "memory fade threshold",
@@ -262,6 +272,10 @@ struct Runner<'r, L> {
     dense: Vec<f64>,
     /// Largest asperity force seen (N), the scale of `fade`.
     largest: f64,
+    /// Ting's bands per decade (`None`: Lee–Radok).
+    per_decade: Option<usize>,
+    /// Per road id, its depth bands (Ting only).
+    bands: Vec<Bands>,
 }
 
 impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
@@ -291,6 +305,14 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             carry: None,
             dense: vec![0.0; n],
             largest: 0.0,
+            per_decade: match options.receding {
+                Receding::LeeRadok => None,
+                Receding::Ting { per_decade } => Some(per_decade),
+            },
+            bands: match options.receding {
+                Receding::LeeRadok => Vec::new(),
+                Receding::Ting { .. } => vec![Bands::default(); n],
+            },
         }
     }
 
@@ -300,15 +322,22 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         let config = self.config;
         let xc = config.position(k);
         let time = xc / config.speed;
-        // A relaxed standing start: step 0 with E∞ and no memory.
+        // A relaxed standing start: step 0 with E∞ and no memory (every
+        // branch's decay and weight zero).
         let relaxed = k == 0 && self.relaxed_start;
         let coefficients = if relaxed {
-            Vec::new()
+            vec![(0.0, 0.0); self.branches]
         } else {
             step_coefficients(self.tread, config.step / config.speed)
         };
         let effective = self.tread.long_term() + coefficients.iter().map(|c| c.1).sum::<f64>();
         for &i in &self.active {
+            if let Some(bands) = self.bands.get_mut(i) {
+                bands.prepare(&coefficients);
+                bands.touching_depths(effective);
+                self.history[i] = bands.history_total().min(0.0);
+                continue;
+            }
             let h: f64 = coefficients
                 .iter()
                 .enumerate()
@@ -346,13 +375,14 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 }
             };
             self.carry = None;
-            self.remember(&[], &[], effective, &coefficients, relaxed);
+            self.remember(&[], &[], &[], effective, &coefficients, relaxed);
             return Ok((self.empty_record(k, approach, boundary), 0));
         };
+        let mut dense = std::mem::take(&mut self.dense);
         let problem = self
             .memory_problem(&ids, &elastic, material, effective)
             .map_err(solve_error)?;
-        let initial = self.warm_start(&ids, &problem, material);
+        let initial = warm_start(self.carry.as_ref(), &mut dense, &ids, &problem, material);
         let options = SolverOptions {
             tolerance: config.tolerance,
             max_iterations: config.max_iterations,
@@ -369,14 +399,25 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 // That step's failure, not the run's: its forces are
                 // unknown, so every memory is held (no increment) and the
                 // next step cold-starts.
+                drop(problem);
+                self.dense = dense;
                 self.carry = None;
                 self.hold(&coefficients, relaxed);
                 return Ok((self.failed_record(k, ids.len(), iterations, residual), 0));
             }
             Err(source) => return Err(solve_error(source)),
         };
-        let shrinking = self.remember(&ids, &solution.forces, effective, &coefficients, relaxed);
         let record = self.record(k, &ids, &problem, &solution, boundary);
+        drop(problem);
+        self.dense = dense;
+        let shrinking = self.remember(
+            &ids,
+            &solution.forces,
+            &solution.depths,
+            effective,
+            &coefficients,
+            relaxed,
+        );
         self.carry = Some((ids, solution.forces, solution.approach));
         Ok((record, shrinking))
     }
@@ -384,12 +425,15 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
     /// The step's problem: gaps raised by the memory's displacement, laws
     /// offset by each asperity's memory, modulus `E_eff`.
     fn memory_problem<'p>(
-        &self,
+        &'p self,
         ids: &[usize],
         elastic: &Problem<&'p L>,
         material: Material,
         effective: f64,
-    ) -> Result<Problem<MemoryLaw<'p, L>>, SolveError> {
+    ) -> Result<Problem<StepLaw<'p, L>>, SolveError>
+    where
+        'r: 'p,
+    {
         let factor = material.boussinesq_factor();
         let pos = self.road.positions();
         let gaps = ids
@@ -409,47 +453,25 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             })
             .collect();
         let scale = effective / self.reference.youngs_modulus();
+        let reference = self.reference.youngs_modulus();
         let laws = ids
             .iter()
             .zip(elastic.laws())
-            .map(|(&i, &inner)| MemoryLaw {
-                inner,
-                scale,
-                offset: self.history[i],
+            .map(|(&i, &inner)| match self.bands.get(i) {
+                Some(bands) => StepLaw::Ting(BandLaw {
+                    inner,
+                    reference,
+                    effective,
+                    bands,
+                }),
+                None => StepLaw::LeeRadok(MemoryLaw {
+                    inner,
+                    scale,
+                    offset: self.history[i],
+                }),
             })
             .collect();
         Problem::new(elastic.positions().to_vec(), gaps, laws, material)
-    }
-
-    /// The previous step's forces mapped by road id (new asperities at 0),
-    /// with consistent interpenetrations.
-    fn warm_start(
-        &mut self,
-        ids: &[usize],
-        problem: &Problem<MemoryLaw<'_, L>>,
-        material: Material,
-    ) -> Option<Solution> {
-        let (old_ids, old_forces, approach) = self.carry.as_ref()?;
-        for (&i, &p) in old_ids.iter().zip(old_forces) {
-            self.dense[i] = p;
-        }
-        let forces: Vec<f64> = ids.iter().map(|&i| self.dense[i]).collect();
-        for &i in old_ids {
-            self.dense[i] = 0.0;
-        }
-        let mut u = vec![0.0; forces.len()];
-        Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-            &forces,
-            &mut u,
-            Par::Seq,
-        );
-        let depths = problem
-            .gaps()
-            .iter()
-            .zip(&u)
-            .map(|(h, u)| approach - h - u)
-            .collect();
-        Some(Solution::warm_start(forces, depths, *approach))
     }
 
     /// Advances every memory over the step: asperities of the footprint with
@@ -460,17 +482,21 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         &mut self,
         ids: &[usize],
         forces: &[f64],
+        depths: &[f64],
         effective: f64,
         coefficients: &[(f64, f64)],
         relaxed: bool,
     ) -> usize {
         let mut shrinking = 0;
         let mut in_window = std::mem::take(&mut self.dense);
-        for (&i, &p) in ids.iter().zip(forces) {
+        for ((&i, &p), &depth) in ids.iter().zip(forces).zip(depths) {
             // Marks the footprint (force + 1 > 0 even for p = 0).
             in_window[i] = p + 1.0;
             self.largest = self.largest.max(p);
-            let w = (p - self.history[i]) / effective;
+            let w = match self.ting_advance(i, depth, effective, coefficients) {
+                Some(w) => w,
+                None => (p - self.history[i]) / effective,
+            };
             if p > 0.0 && w < self.unit[i] * (1.0 - 1e-9) {
                 shrinking += 1;
             }
@@ -485,7 +511,11 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         let mut kept = Vec::with_capacity(self.active.len());
         for &i in &std::mem::take(&mut self.active) {
             if in_window[i] == 0.0 {
-                self.advance(i, -self.history[i] / effective, coefficients, relaxed);
+                // Out of the footprint nothing touches (depth 0: no band).
+                let w = self
+                    .ting_advance(i, 0.0, effective, coefficients)
+                    .unwrap_or(-self.history[i] / effective);
+                self.advance(i, w, coefficients, relaxed);
             }
             let q: f64 = (0..self.branches)
                 .map(|b| self.branch[i * self.branches + b].abs())
@@ -506,6 +536,29 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         shrinking
     }
 
+    /// Under Ting's treatment, advances asperity `i`'s bands at
+    /// interpenetration `depth` and returns its new `w_i`; `None` under
+    /// Lee–Radok.
+    fn ting_advance(
+        &mut self,
+        i: usize,
+        depth: f64,
+        effective: f64,
+        coefficients: &[(f64, f64)],
+    ) -> Option<f64> {
+        let per_decade = self.per_decade?;
+        let bands = self.bands.get_mut(i)?;
+        bands.advance(
+            depth,
+            &self.road.laws()[i],
+            self.reference.youngs_modulus(),
+            effective,
+            coefficients,
+            per_decade,
+        );
+        Some(bands.unit_total())
+    }
+
     /// Sets `w_i` and advances its branches (`q = 0` at the relaxed start).
     fn advance(&mut self, i: usize, w: f64, coefficients: &[(f64, f64)], relaxed: bool) {
         let old = self.unit[i];
@@ -524,12 +577,18 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
     fn hold(&mut self, coefficients: &[(f64, f64)], relaxed: bool) {
         for a in 0..self.active.len() {
             let i = self.active[a];
+            if let Some(bands) = self.bands.get_mut(i) {
+                bands.hold(coefficients);
+            }
             let w = self.unit[i];
             self.advance(i, w, coefficients, relaxed);
         }
     }
 
     fn forget(&mut self, i: usize) {
+        if let Some(bands) = self.bands.get_mut(i) {
+            *bands = Bands::default();
+        }
         self.unit[i] = 0.0;
         self.history[i] = 0.0;
         self.is_active[i] = false;
@@ -542,7 +601,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         &self,
         k: usize,
         ids: &[usize],
-        problem: &Problem<MemoryLaw<'_, L>>,
+        problem: &Problem<StepLaw<'_, L>>,
         solution: &Solution,
         boundary: f64,
     ) -> StepRecord {
@@ -632,4 +691,37 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             ..self.empty_record(k, nan, nan)
         }
     }
+}
+
+/// The previous step's forces mapped by road id (new asperities at 0),
+/// with consistent interpenetrations; `dense` is an id-indexed scratch of
+/// zeros, left zero.
+fn warm_start<L: ContactLaw>(
+    carry: Option<&(Vec<usize>, Vec<f64>, f64)>,
+    dense: &mut [f64],
+    ids: &[usize],
+    problem: &Problem<L>,
+    material: Material,
+) -> Option<Solution> {
+    let (old_ids, old_forces, approach) = carry?;
+    for (&i, &p) in old_ids.iter().zip(old_forces) {
+        dense[i] = p;
+    }
+    let forces: Vec<f64> = ids.iter().map(|&i| dense[i]).collect();
+    for &i in old_ids {
+        dense[i] = 0.0;
+    }
+    let mut u = vec![0.0; forces.len()];
+    Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
+        &forces,
+        &mut u,
+        Par::Seq,
+    );
+    let depths = problem
+        .gaps()
+        .iter()
+        .zip(&u)
+        .map(|(h, u)| approach - h - u)
+        .collect();
+    Some(Solution::warm_start(forces, depths, *approach))
 }

@@ -4,6 +4,31 @@
 
 use tyreroad_contact_law::{ContactLaw, LawPoint, LocalContact};
 
+use crate::ting::BandLaw;
+
+/// The law of one asperity in a rolling step: Lee–Radok's offset law or
+/// Ting's depth bands ([`crate::Receding`]).
+pub(crate) enum StepLaw<'a, L> {
+    LeeRadok(MemoryLaw<'a, L>),
+    Ting(BandLaw<'a, L>),
+}
+
+impl<L: ContactLaw> ContactLaw for StepLaw<'_, L> {
+    fn evaluate(&self, depth: f64) -> LawPoint {
+        match self {
+            Self::LeeRadok(law) => law.evaluate(depth),
+            Self::Ting(law) => law.evaluate(depth),
+        }
+    }
+
+    fn local_contact(&self, force: f64, depth: f64) -> LocalContact {
+        match self {
+            Self::LeeRadok(law) => law.local_contact(force, depth),
+            Self::Ting(law) => law.local_contact(force, depth),
+        }
+    }
+}
+
 /// `P(δ) = max(0, (E_eff/E_ref) P_ref(δ) + h)` with `h ≤ 0` the asperity's
 /// memory force (docs/viscoelastic.md, "Rolling").
 ///
