@@ -21,9 +21,9 @@
 //!
 //! Tables are cached by shape: the key hashes the quantised patch heights
 //! (to [`HEIGHT_QUANTUM`]), the grid, `δ_max`, `E*`, the options (node
-//! count, tolerance, warm start) and a format version, so identical caps (the same chipping repeated, a sphere field)
-//! are solved once per [`Calibrator`]; optionally also on disk, one small
-//! CSV per shape.
+//! count, tolerance, warm start) and a format version, so identical caps
+//! (the same chipping repeated, a sphere field) are solved once per
+//! [`Calibrator`]; optionally also on disk, one small CSV per shape.
 //!
 //! A calibrator [`Calibrator::with_fields`] also keeps, per knot, the BEM
 //! pressure binned into a compact field ([`super::field`]) for the
