@@ -9,8 +9,10 @@
 //! And rolling (issue #15: "the rolling fixture with the best rung must
 //! stay within 3× of its time today"): 40 steps of the chip-seal fixture
 //! (`fixtures/rolling_tyre_chip_seal.toml`) on its Wilke road and on its
-//! calibrated road, the calibration done once before timing (a later run
-//! reading its tables back from the checkpoint folder pays only the steps).
+//! calibrated road, plain (`calibrated`) and coupled through its fields
+//! (`calibrated_fields`), the calibration (with fields) done once before
+//! timing (a later run reading its tables back from the checkpoint folder
+//! pays only the steps).
 //!
 //! The field: `multipoint::layouts::road_like_field` (mean spacing 3 mm,
 //! summit heights over 0.5 mm), its radii rounded to 0.5 mm classes so the
@@ -22,6 +24,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::PotentialLaw;
 use tyreroad::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
+use tyreroad::fidelity::rolling_fields::FieldRolling;
 use tyreroad::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, Coupling, LawSource, RUNGS, calibrate,
 };
@@ -143,14 +146,13 @@ fn bench_rolling(c: &mut Criterion) {
     config.end = config.start + (ROLLING_STEPS - 1) as f64 * config.step;
     let wilke = scenario.texture_rolling_road(&fixture).expect("road");
     let t = std::time::Instant::now();
-    let calibrated = scenario
-        .calibrated_texture_rolling_road(&fixture, &config, Par::rayon(0), None)
-        .expect("calibration");
+    let calibrated = calibrated_with_fields(&scenario, &fixture, &config);
     eprintln!(
-        "calibration of {} selectable asperities: {:.1} s",
+        "calibration (with fields) of {} selectable asperities: {:.1} s",
         calibrated.len(),
         t.elapsed().as_secs_f64()
     );
+    let coupling = FieldRolling::with_defaults(&material).expect("coupling");
     let options = RunOptions {
         par: Par::rayon(0),
         ..RunOptions::default()
@@ -163,6 +165,19 @@ fn bench_rolling(c: &mut Criterion) {
     group.bench_function("calibrated", |b| {
         b.iter(|| roll(&calibrated, material, &config, &options).expect("roll"))
     });
+    group.bench_function("calibrated_fields", |b| {
+        b.iter(|| {
+            tyreroad::rolling::roll_coupled(&calibrated, material, &config, &options, &coupling)
+                .expect("roll")
+        })
+    });
+    let st = coupling.stats();
+    eprintln!(
+        "calibrated_fields: {:.2} rounds a step (at most {}) over {} steps",
+        st.rounds as f64 / st.steps.max(1) as f64,
+        st.max_rounds,
+        st.steps
+    );
     group.finish();
 }
 
@@ -214,6 +229,41 @@ fn bench_calibration(c: &mut Criterion) {
         group.bench_function(name, |b| b.iter(run));
     }
     group.finish();
+}
+
+/// The fixture's calibrated rolling road with its fields (what `[model]
+/// fidelity = "calibrated_fields"` rolls; its laws are the `calibrated`
+/// rung's, so both rungs are timed on it): the texture road in the
+/// scenario's frame (y centred on the map's mid-width, rolling order is
+/// not needed for timing), calibrated over `config`'s path.
+fn calibrated_with_fields(
+    scenario: &tyreroad::scenario::Scenario,
+    base: &std::path::Path,
+    config: &tyreroad::rolling::RollingConfig,
+) -> tyreroad::rolling::Road<CalibratedLaw> {
+    use tyreroad::rolling::Road;
+    let texture = scenario.texture.as_ref().expect("texture");
+    let map = texture.height_map(base).expect("map");
+    let material = scenario.material().expect("material");
+    let troad = tyreroad::texture_road::texture_road(&map, material, &texture.road_options())
+        .expect("texture road");
+    let radii = troad.summit_radii();
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("set"))
+        .with_summit_radii(radii.clone())
+        .expect("radii");
+    let calibrator = Calibrator::new(material, CalibrationOptions::default()).with_fields();
+    let cal = tyreroad::fidelity::rolling::calibrate_rolling_road(
+        &troad,
+        &wilke,
+        &map,
+        config,
+        &calibrator,
+        tyreroad::shared::Par::rayon(0),
+    )
+    .expect("calibration");
+    let radii = cal.kept.iter().map(|&i| radii[i]).collect();
+    Road::new(cal.set).with_summit_radii(radii).expect("radii")
 }
 
 criterion_group!(benches, bench_rungs, bench_rolling, bench_calibration);

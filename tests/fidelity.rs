@@ -129,6 +129,7 @@ fn calibrated_laws_bring_the_model_onto_the_bem_on_two_balls() -> TestResult {
         calibration: CalibrationOptions::default(),
         rungs: RUNGS.to_vec(),
         solver: SolverOptions::default(),
+        neighbour_passes: 0,
     };
     let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
     assert_eq!(c.asperities, 2);
@@ -213,6 +214,7 @@ fn a_coarser_segmentation_moves_the_outputs_little() -> TestResult {
         [&fine, &coarse],
         Fidelity::Calibrated,
         &SolverOptions::default(),
+        &tyreroad::two_scale::TwoScaleOptions::default(),
         &Calibrator::new(material, CalibrationOptions::default()),
     )?;
     let [r] = rows.as_slice() else {

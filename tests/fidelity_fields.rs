@@ -58,6 +58,7 @@ fn fields_couple_ridges_as_the_bem_does() -> TestResult {
         calibration: CalibrationOptions::default(),
         rungs: vec![Fidelity::Calibrated, Fidelity::CalibratedFields],
         solver: SolverOptions::default(),
+        neighbour_passes: 0,
     };
     let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
     assert_eq!(c.asperities, 3);

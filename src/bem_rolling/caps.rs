@@ -39,8 +39,9 @@ struct BasinCells {
     y: [f64; 2],
 }
 
-/// The sensor forces of `run` (one row per sensor, one value per step) with
-/// each contact's force spread as its cap's pressure.
+/// The sensor forces of `run` (one row per sensor, one value per step; NaN
+/// at a failed step) with each contact's force spread as its cap's
+/// pressure.
 ///
 /// `road_positions` are the summits of the run's road by id (the
 /// `RollingRun`'s); `field` is the texture in the road frame
@@ -91,6 +92,13 @@ pub fn cap_sensor_forces(
     };
     let mut out = vec![vec![0.0; run.steps.len()]; config.sensors.len()];
     for (k, step) in run.steps.iter().enumerate() {
+        // A failed step's forces are unknown, not zero.
+        if step.status == crate::rolling::StepStatus::Failed {
+            for row in &mut out {
+                row[k] = f64::NAN;
+            }
+            continue;
+        }
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
             let summit = road_positions.get(id).copied().unwrap_or([f64::NAN; 2]);
             let Some(&basin) = by_summit.get(&key(summit)) else {

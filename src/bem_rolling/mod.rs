@@ -75,7 +75,8 @@ pub use refine::{
     run_grid_convergence,
 };
 pub use run_scenario::{
-    BemRollingRun, Stretch, run_scenario_comparison, run_scenario_comparison_against, texture_field,
+    BemRollingRun, FieldRungAccountings, Stretch, run_scenario_comparison,
+    run_scenario_comparison_against, texture_field,
 };
 pub use split::{AsperityShare, StepSplit, asperity_split};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};

@@ -5,9 +5,12 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use crate::fidelity::Fidelity;
+use crate::fidelity::rolling_fields::{
+    FieldRolling, FieldRollingStats, SensorAccounting, sensor_forces,
+};
 use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
-use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult};
+use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult, run_calibrated_fields};
 use crate::shared::{Field, Par};
 use crate::texture::HeightMap;
 use crate::texture_road::texture_road;
@@ -44,6 +47,26 @@ pub struct BemRollingRun {
     /// its sensor forces (one row per sensor) and its comparison with the
     /// BEM (its `sensors`; the other signals are the run's).
     pub caps: (Vec<Vec<f64>>, RollingComparison),
+    /// On `[model] fidelity = "calibrated_fields"`: the run's sensors
+    /// recounted on its calibrated road each way, and the coupling's
+    /// rounds; `None` on the other rungs.
+    pub field_rung: Option<FieldRungAccountings>,
+}
+
+/// A `calibrated_fields` run's sensors counted each way
+/// ([`crate::fidelity::rolling_fields::sensor_forces`]), each with its
+/// comparison with the BEM (its `sensors`; the other signals are the
+/// run's), and the fixed point's rounds.
+#[derive(Debug)]
+pub struct FieldRungAccountings {
+    /// Each contact's force spread as its calibrated field.
+    pub fields: (Vec<Vec<f64>>, RollingComparison),
+    /// Each contact's force spread as its law's disc.
+    pub discs: (Vec<Vec<f64>>, RollingComparison),
+    /// Rounds and pairs of the fixed point over the run.
+    pub stats: FieldRollingStats,
+    /// How the run's own sensors counted.
+    pub in_run: SensorAccounting,
 }
 
 /// The texture's height map in the road frame of a scenario's rolling run:
@@ -133,10 +156,16 @@ pub fn run_scenario_comparison_against(
         ..RunOptions::new(base_dir)
     };
     let clock = Instant::now();
-    let ScenarioResult::Rolling(multipoint) = scenario.run(&run_options)? else {
-        return Err(BemRollingError::InvalidInput(
-            "the scenario did not run as a rolling run".into(),
-        ));
+    let (multipoint, field_road) = if scenario.model.fidelity()? == Fidelity::CalibratedFields {
+        let (run, road, stats) = run_calibrated_fields(&scenario, &run_options)?;
+        (Box::new(run), Some((road, stats)))
+    } else {
+        let ScenarioResult::Rolling(multipoint) = scenario.run(&run_options)? else {
+            return Err(BemRollingError::InvalidInput(
+                "the scenario did not run as a rolling run".into(),
+            ));
+        };
+        (multipoint, None)
     };
     let multipoint_time = clock.elapsed();
     let config: &RollingConfig = &multipoint.config;
@@ -173,6 +202,25 @@ pub fn run_scenario_comparison_against(
         segment,
         &bem,
     )?;
+    let field_rung = match field_road {
+        Some((road, stats)) => {
+            let recount = |accounting| -> Result<_, BemRollingError> {
+                let forces = sensor_forces(&multipoint.result, &road, config, accounting)
+                    .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+                let comparison = recounted(&multipoint, &forces, &bem, reference_force, segment)?;
+                Ok((forces, comparison))
+            };
+            Some(FieldRungAccountings {
+                fields: recount(SensorAccounting::Fields)?,
+                discs: recount(SensorAccounting::Discs)?,
+                stats,
+                in_run: FieldRolling::with_defaults(&scenario.material()?)
+                    .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?
+                    .sensors(),
+            })
+        }
+        None => None,
+    };
     let summit_gaps = if scenario.model.fidelity()? == Fidelity::Wilke {
         let summit_result = summit_gap_run(&scenario, &map, config, par)?;
         let summit_comparison = compare(
@@ -196,6 +244,7 @@ pub fn run_scenario_comparison_against(
         road_grid: (map.nx(), map.ny(), map.dx()),
         summit_gaps,
         caps,
+        field_rung,
     })
 }
 
@@ -228,21 +277,33 @@ fn cap_run(
         &material,
         options,
     )?;
+    let comparison = recounted(multipoint, &forces, bem, reference_force, segment)?;
+    Ok((forces, comparison))
+}
+
+/// The comparison with the BEM of `multipoint` with its sensor forces
+/// replaced by `forces` (one row per sensor, one value per step).
+fn recounted(
+    multipoint: &RollingRun,
+    forces: &[Vec<f64>],
+    bem: &BemRollingResult,
+    reference_force: f64,
+    segment: Option<usize>,
+) -> Result<RollingComparison, BemRollingError> {
     let mut result = multipoint.result.clone();
     for (k, step) in result.steps.iter_mut().enumerate() {
         for (s, f) in step.sensor_forces.iter_mut().enumerate() {
             *f = forces[s][k];
         }
     }
-    let comparison = compare(
+    compare(
         &result,
         &multipoint.road_positions,
-        &config.sensors,
+        &multipoint.config.sensors,
         bem,
         reference_force,
         segment,
-    )?;
-    Ok((forces, comparison))
+    )
 }
 
 /// The scenario's multipoint run rebuilt with the tread gaps at the

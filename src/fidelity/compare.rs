@@ -61,6 +61,10 @@ pub struct CompareOptions {
     pub rungs: Vec<Fidelity>,
     /// Base solver options of every rung.
     pub solver: SolverOptions,
+    /// Passes of the two-scale rebuild (the block fields) that solve each
+    /// cap again under its neighbours' displacement
+    /// ([`TwoScaleOptions::neighbour_passes`]); 0: each cap alone.
+    pub neighbour_passes: usize,
 }
 
 /// One load of the BEM reference.
@@ -311,6 +315,7 @@ fn run_rung<L: ContactLaw + Sync>(
     map: &HeightMap,
     summit_above_grid: f64,
     shapes: Option<&[LocalShape]>,
+    rebuild: &TwoScaleOptions,
     area: impl Fn(&Solution, Option<&TwoScale>) -> Result<f64, String>,
 ) -> Vec<Result<RungLoad, String>> {
     bem.iter()
@@ -326,7 +331,7 @@ fn run_rung<L: ContactLaw + Sync>(
             let seconds = t.elapsed().as_secs_f64();
             let two = shapes
                 .map(|shapes| {
-                    two_scale_solution(problem, &s, shapes, &TwoScaleOptions::default())
+                    two_scale_solution(problem, &s, shapes, rebuild)
                         .map_err(|e| format!("two-scale rebuild: {e}"))
                 })
                 .transpose()?;
@@ -400,6 +405,10 @@ pub fn compare_texture(
     } else {
         calibrator
     };
+    let rebuild = TwoScaleOptions {
+        neighbour_passes: options.neighbour_passes,
+        ..TwoScaleOptions::default()
+    };
     let mut calibrated: Option<(Problem<super::CalibratedLaw>, f64)> = None;
     let mut rungs = Vec::new();
     for &fidelity in &options.rungs {
@@ -429,6 +438,7 @@ pub fn compare_texture(
                     map,
                     summit_above_grid,
                     Some(&shapes),
+                    &rebuild,
                     area,
                 );
                 (0.0, r)
@@ -464,6 +474,7 @@ pub fn compare_texture(
                     map,
                     summit_above_grid,
                     Some(&shapes),
+                    &rebuild,
                     area,
                 );
                 calibrated = Some((problem, setup));

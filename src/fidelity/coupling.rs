@@ -260,3 +260,140 @@ pub fn solve_field_coupled(
         change,
     })
 }
+
+/// How a rolling step's field correction limits its pairs
+/// ([`sparse_field_correction`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairReach {
+    /// Pairs closer than `near (R_i + R_j)` take the binned double sum.
+    pub near: f64,
+    /// Pairs farther than `far (R_i + R_j)` keep the point kernel; between
+    /// `near` and `far` they take the fields' centroids.
+    pub far: f64,
+}
+
+impl Default for PairReach {
+    /// `near` 4 (as the static rung's reach), `far` 10: a centroid term
+    /// left out is below `(R_i + R_j)/r < 1/10` of the point kernel of a
+    /// pair more than ten field extents apart, and of either sign.
+    fn default() -> Self {
+        Self {
+            near: 4.0,
+            far: 10.0,
+        }
+    }
+}
+
+/// The field correction `C` of a step's asperities at `positions` (m, the
+/// points the point kernel couples: each field's points are taken relative
+/// to its asperity's position), `depths` (m) and `forces` (N), without
+/// visiting all `N²` pairs: the asperities sorted by x, each paired only
+/// with those within `far (R_i + R_max)` along x, and then by distance as
+/// [`PairReach`] says. Pairs where neither asperity carries a force are
+/// left out (their correction multiplies zero forces; a pair that comes
+/// into contact is picked up by the next round of the fixed point).
+///
+/// # Errors
+/// [`FidelityError::InvalidInput`] for slices of different lengths, a
+/// reach that is not finite with `1 ≤ near ≤ far`, or a law calibrated
+/// without fields.
+pub fn sparse_field_correction(
+    positions: &[[f64; 2]],
+    laws: &[&CalibratedLaw],
+    depths: &[f64],
+    forces: &[f64],
+    factor: f64,
+    reach: PairReach,
+) -> Result<FieldCorrection, FidelityError> {
+    let n = positions.len();
+    if laws.len() != n || depths.len() != n || forces.len() != n {
+        return Err(FidelityError::invalid(
+            "field correction",
+            format!(
+                "{n} positions, {} laws, {} depths, {} forces",
+                laws.len(),
+                depths.len(),
+                forces.len()
+            ),
+            "one law, depth and force per position",
+        ));
+    }
+    if !(reach.near.is_finite() && reach.far.is_finite() && reach.near >= 1.0)
+        || reach.far < reach.near
+    {
+        return Err(FidelityError::invalid(
+            "field coupling reach",
+            format!("near {}, far {}", reach.near, reach.far),
+            "finite, 1 <= near <= far",
+        ));
+    }
+    let fields: Vec<(UnitField, [f64; 2], f64, f64)> = laws
+        .iter()
+        .zip(positions)
+        .zip(depths)
+        .enumerate()
+        .map(|(i, ((law, p), &d))| {
+            let bin = law.table().field().map(|f| f.bin_size());
+            let (Some(local), Some(bin)) = (law.unit_field(d), bin) else {
+                return Err(FidelityError::invalid(
+                    "asperity law",
+                    format!("asperity {i} without a pressure field"),
+                    "a table calibrated with fields (Calibrator::with_fields)",
+                ));
+            };
+            let field: UnitField = local
+                .into_iter()
+                .map(|(x, w)| ([p[0] + x[0], p[1] + x[1]], w))
+                .collect();
+            let (centroid, extent) = centroid_and_reach(&field, *p);
+            Ok((field, centroid, extent, bin))
+        })
+        .collect::<Result<_, _>>()?;
+    let extent_max = fields.iter().map(|f| f.2).fold(0.0, f64::max);
+    let mut by_x: Vec<usize> = (0..n).collect();
+    by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
+    let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let i = by_x[k];
+            let (fi, ci, ri, bi) = &fields[i];
+            let window = reach.far * (ri + extent_max);
+            let mut row = Vec::new();
+            for &j in &by_x[k + 1..] {
+                if positions[j][0] - positions[i][0] > window {
+                    break;
+                }
+                if !(forces[i] > 0.0 || forces[j] > 0.0) {
+                    continue;
+                }
+                let (fj, cj, rj, bj) = &fields[j];
+                let r =
+                    (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
+                // Coincident points have no point coupling to correct.
+                if r == 0.0 || r >= reach.far * (ri + rj) {
+                    continue;
+                }
+                let near = r < reach.near * (ri + rj);
+                let g = if near {
+                    field_compliance(fi, fj, 0.5 * bi.min(*bj))
+                } else {
+                    1.0 / (ci[0] - cj[0]).hypot(ci[1] - cj[1])
+                };
+                if (g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite() {
+                    row.push((i.min(j), i.max(j), factor * (g - 1.0 / r), near));
+                }
+            }
+            row
+        })
+        .collect();
+    let pairs: Vec<_> = rows.into_iter().flatten().collect();
+    let field_pairs = pairs.iter().filter(|p| p.3).count();
+    let centroid_pairs = pairs.len() - field_pairs;
+    let correction =
+        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
+    Ok(FieldCorrection {
+        correction,
+        field_pairs,
+        centroid_pairs,
+    })
+}

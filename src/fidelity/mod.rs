@@ -40,6 +40,7 @@ pub mod compare;
 pub mod coupling;
 pub mod field;
 pub mod rolling;
+pub mod rolling_fields;
 pub mod segmentation;
 mod texture;
 

@@ -59,6 +59,7 @@ type Outputs = Vec<(f64, f64, [Vec<f64>; 2])>;
 /// # Errors
 /// A texture that cannot be segmented, a failed calibration, solve or
 /// two-scale rebuild, or a non-positive load.
+#[allow(clippy::too_many_arguments)]
 pub fn segmentation_spread(
     map: &HeightMap,
     material: Material,
@@ -66,6 +67,7 @@ pub fn segmentation_spread(
     segmentations: [&TextureRoadOptions; 2],
     fidelity: Fidelity,
     solver: &SolverOptions,
+    rebuild: &TwoScaleOptions,
     calibrator: &Calibrator,
 ) -> Result<Vec<SegmentationRow>, FidelityError> {
     if let Some(&w) = loads.iter().find(|w| !(w.is_finite() && **w > 0.0)) {
@@ -88,7 +90,9 @@ pub fn segmentation_spread(
         let out = match rung.laws {
             LawSource::Potential => {
                 let solve_one = |w| Ok(solve(&wilke, Control::Load(w), &rung.solver)?);
-                outputs_of(&wilke, &road, map, grid_top, loads, &solve_one, true)?
+                outputs_of(
+                    &wilke, &road, map, grid_top, loads, &solve_one, rebuild, true,
+                )?
             }
             LawSource::Calibrated => {
                 let top_load = loads.iter().copied().fold(0.0, f64::max);
@@ -106,7 +110,9 @@ pub fn segmentation_spread(
                     )?
                     .solution),
                 };
-                outputs_of(&problem, &road, map, grid_top, loads, &solve_one, false)?
+                outputs_of(
+                    &problem, &road, map, grid_top, loads, &solve_one, rebuild, false,
+                )?
             }
         };
         outputs.push(out);
@@ -126,6 +132,7 @@ pub fn segmentation_spread(
 
 /// Approach from the grid top, area (two-scale when `two_scale_area`, else
 /// the laws' local contacts) and field blocks of `problem` at each load.
+#[allow(clippy::too_many_arguments)]
 fn outputs_of<L: ContactLaw + Sync>(
     problem: &Problem<L>,
     road: &TextureRoad,
@@ -133,6 +140,7 @@ fn outputs_of<L: ContactLaw + Sync>(
     grid_top: f64,
     loads: &[f64],
     solve_one: &dyn Fn(f64) -> Result<Solution, FidelityError>,
+    rebuild: &TwoScaleOptions,
     two_scale_area: bool,
 ) -> Result<Outputs, FidelityError> {
     let shapes = road.local_shapes(&std::sync::Arc::new(map.clone()))?;
@@ -141,7 +149,7 @@ fn outputs_of<L: ContactLaw + Sync>(
         .iter()
         .map(|&w| {
             let s = solve_one(w)?;
-            let two = two_scale_solution(problem, &s, &shapes, &TwoScaleOptions::default())
+            let two = two_scale_solution(problem, &s, &shapes, rebuild)
                 .map_err(|e| FidelityError::invalid("two-scale rebuild", e, "a rebuild"))?;
             let area = if two_scale_area {
                 two.local.iter().map(|f| f.contact_area).sum()

@@ -25,6 +25,7 @@ mod history;
 pub mod output;
 mod ranges;
 mod rolling;
+mod rolling_fields;
 mod rolling_spec;
 mod rolling_stream;
 mod spec;
@@ -46,6 +47,7 @@ pub use history::{
 };
 pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use rolling::{RoadSummary, RollingRun, Spectra};
+pub(crate) use rolling_fields::run_calibrated_fields;
 pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
 pub use rolling_stream::StreamedRun;
 pub use spec::{

@@ -10,9 +10,11 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
-use super::texture::{TextureSummary, calibrated_texture_road_set, rolling_texture_road_set};
+use super::rolling_fields::calibrated_road;
+use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::fidelity::Fidelity;
+use crate::fidelity::rolling_fields::FieldRolling;
 use crate::texture_road::window::NpyTextureRoad;
 
 /// Where the rolled road came from.
@@ -149,30 +151,28 @@ pub(crate) fn rolling_on_road(
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
         // `[model] fidelity = "calibrated"`: the same road with each
-        // selectable cap's BEM-calibrated law (crate::fidelity::rolling).
-        if scenario.model.fidelity()? == Fidelity::Calibrated {
-            let config = scenario.rolling_config()?;
-            let par = options
-                .par
-                .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-            // Tables are kept beside the checkpoints: a resumed or repeated
-            // run on the same road does not calibrate it again.
-            let cache = options
-                .checkpoint_dir
-                .as_deref()
-                .filter(|_| spec.checkpoint)
-                .map(|dir| dir.join("calibration"));
-            let (set, summary, radii) = calibrated_texture_road_set(
-                texture,
-                &options.base_dir,
-                material,
-                &config,
-                par,
-                cache.as_deref(),
-            )?;
-            let road = rolling::Road::new(set).with_summit_radii(radii)?;
-            let summary = RoadSummary::Texture(summary);
-            return roll_road(scenario, &road, summary, material, spec, options, what);
+        // selectable cap's BEM-calibrated law (crate::fidelity::rolling);
+        // "calibrated_fields": the same laws with their fields, each step
+        // coupled through them (crate::fidelity::rolling_fields).
+        match scenario.model.fidelity()? {
+            Fidelity::Calibrated => {
+                let (road, summary) = calibrated_road(scenario, spec, options, texture, false)?;
+                return roll_road(scenario, &road, summary, material, spec, options, what);
+            }
+            Fidelity::CalibratedFields => {
+                let (road, summary) = calibrated_road(scenario, spec, options, texture, true)?;
+                let coupling = FieldRolling::with_defaults(&material)?;
+                return roll_road_with(
+                    scenario,
+                    (&road, Some(&coupling)),
+                    summary,
+                    material,
+                    spec,
+                    options,
+                    what,
+                );
+            }
+            _ => {}
         }
         // A rank's part on a `.npy` texture: windows of the file, the same
         // asperities by the same ids as the whole road's (other formats,
@@ -334,6 +334,28 @@ fn roll_road<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
+    roll_road_with(
+        scenario,
+        (road, None),
+        summary,
+        material,
+        spec,
+        options,
+        what,
+    )
+}
+
+/// [`roll_road`], each step coupled by `coupling` when given
+/// ([`rolling::roll_coupled`]).
+pub(super) fn roll_road_with<L: ContactLaw + Sync>(
+    scenario: &Scenario,
+    (road, coupling): (&rolling::Road<L>, Option<&dyn rolling::StepCoupling<L>>),
+    summary: RoadSummary,
+    material: Material,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    what: What,
+) -> Result<Rolled, ScenarioError> {
     if let What::Road = what {
         let summits = SummitSlices {
             positions: road.positions().to_vec(),
@@ -388,10 +410,22 @@ fn roll_road<L: ContactLaw + Sync>(
         other => other.into(),
     };
     let result = match what {
-        What::Whole => rolling::roll(road, material, &config, &run_options).map_err(off_road)?,
+        What::Whole => match coupling {
+            None => rolling::roll(road, material, &config, &run_options),
+            Some(c) => rolling::roll_coupled(road, material, &config, &run_options, c),
+        }
+        .map_err(off_road)?,
         What::Part { steps, warmup } => {
-            let part = rolling::roll_range(road, material, &config, steps, warmup, &run_options)
-                .map_err(off_road)?;
+            let part = rolling::roll_range_coupled(
+                road,
+                material,
+                &config,
+                steps,
+                warmup,
+                &run_options,
+                coupling,
+            )
+            .map_err(off_road)?;
             return Ok(Rolled::Part(part));
         }
         What::Gathered(result) => result,
@@ -420,7 +454,7 @@ fn npy_window_road(
     let Some(texture) = &scenario.texture else {
         return Ok(None);
     };
-    if scenario.model.fidelity()? == Fidelity::Calibrated {
+    if scenario.model.fidelity()? != Fidelity::Wilke {
         return Ok(None);
     }
     let Some(path) = npy_file(texture, options) else {

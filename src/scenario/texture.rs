@@ -309,6 +309,22 @@ pub(crate) fn calibrated_texture_road_set(
     par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
+    calibrated_texture_road_set_with(texture, base_dir, material, config, par, cache, false)
+}
+
+/// [`calibrated_texture_road_set`], the tables keeping their binned
+/// pressure fields when `fields` (`[model] fidelity = "calibrated_fields"`;
+/// `Calibrator::with_fields` neither reads nor writes the disk cache, so
+/// `cache` is then unused).
+pub(crate) fn calibrated_texture_road_set_with(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    material: Material,
+    config: &tyreroad_rolling::RollingConfig,
+    par: tyreroad_multipoint::Par,
+    cache: Option<&Path>,
+    fields: bool,
+) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
     let mut summary = TextureSummary::new(&map, &road);
@@ -316,6 +332,9 @@ pub(crate) fn calibrated_texture_road_set(
     let set = centred_on_mid_width(road.set.clone(), &map)?;
     let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
     let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
+    if fields {
+        calibrator = calibrator.with_fields();
+    }
     if let Some(dir) = cache {
         calibrator = calibrator.with_disk_cache(dir);
     }

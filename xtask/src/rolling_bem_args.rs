@@ -50,8 +50,8 @@ pub struct RollingBemArgs {
     /// (`rolling_bem_refine`), instead of the comparison.
     #[arg(long, conflicts_with = "viscoelastic", value_parser = parse_refinement)]
     pub refine: Option<usize>,
-    /// The model's fidelity (`wilke` or `calibrated`), instead of the
-    /// scenario's `[model] fidelity`.
+    /// The model's fidelity (`wilke`, `calibrated` or
+    /// `calibrated_fields`), instead of the scenario's `[model] fidelity`.
     #[arg(long, conflicts_with = "viscoelastic")]
     pub fidelity: Option<String>,
     /// Compare against the BEM signals an earlier `rolling-bem` run of the

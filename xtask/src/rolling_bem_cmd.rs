@@ -33,8 +33,13 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     // Before the viscoelastic branch: its multipoint run takes the rung too.
     if let Some(name) = &args.fidelity {
         let fidelity: Fidelity = name.parse()?;
-        if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
-            anyhow::bail!("--fidelity {name}: rolling takes \"wilke\" or \"calibrated\"");
+        if !matches!(
+            fidelity,
+            Fidelity::Wilke | Fidelity::Calibrated | Fidelity::CalibratedFields
+        ) {
+            anyhow::bail!(
+                "--fidelity {name}: rolling takes \"wilke\", \"calibrated\" or \"calibrated_fields\""
+            );
         }
         scenario.model.fidelity = Some(name.clone());
     }
@@ -126,6 +131,31 @@ fn print_report(name: &str, run: &BemRollingRun) {
             cal.time.as_secs_f64()
         );
     }
+    if let Some(f) = &run.field_rung {
+        let st = &f.stats;
+        let calibration = match &run.multipoint.road {
+            tyreroad::scenario::RoadSummary::Texture(t) => t.calibration.as_ref().map(|c| c.time),
+            _ => None,
+        }
+        .unwrap_or_default();
+        say!(
+            "field coupling: {} settled steps, {} rounds ({:.2} a step, at most {}), {} double-sum and {} centroid pairs over all rounds; steps {:.1} s after the calibration; the run's own sensors on {}",
+            st.steps,
+            st.rounds,
+            st.rounds as f64 / st.steps.max(1) as f64,
+            st.max_rounds,
+            st.field_pairs,
+            st.centroid_pairs,
+            run.multipoint_time
+                .saturating_sub(calibration)
+                .as_secs_f64(),
+            match f.in_run {
+                tyreroad::fidelity::rolling_fields::SensorAccounting::Fields =>
+                    "the calibrated fields",
+                tyreroad::fidelity::rolling_fields::SensorAccounting::Discs => "the discs",
+            }
+        );
+    }
     say!(
         "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
         c.resolved_from
@@ -150,6 +180,16 @@ fn print_report(name: &str, run: &BemRollingRun) {
     // Each contact's force spread as its own cap's BEM pressure.
     for s in &run.caps.1.sensors {
         row(&format!("{} (caps)", s.name), s);
+    }
+    // The calibrated_fields run recounted: on its calibrated fields, on
+    // its laws' discs.
+    if let Some(f) = &run.field_rung {
+        for s in &f.fields.1.sensors {
+            row(&format!("{} (cal. fields)", s.name), s);
+        }
+        for s in &f.discs.1.sensors {
+            row(&format!("{} (discs)", s.name), s);
+        }
     }
     // The model before the contact-point gaps, against the same BEM run.
     // (Not run on calibrated laws: it would calibrate the road again.)
@@ -223,6 +263,12 @@ struct SensorRow<'a> {
     bem_n: f64,
     #[serde(serialize_with = "fmt::sci9")]
     model_caps_n: f64,
+    /// `calibrated_fields` only (NaN otherwise): the run's forces on its
+    /// calibrated fields and on its laws' discs.
+    #[serde(serialize_with = "fmt::sci9")]
+    model_calibrated_fields_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    model_discs_n: f64,
 }
 
 /// One band of one signal.
@@ -274,6 +320,14 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
                 model_summit_gaps_n: gap_steps.get(i).map_or(f64::NAN, |g| g.sensor_forces[k]),
                 bem_n: b.sensor_forces[k],
                 model_caps_n: run.caps.0[k][i],
+                model_calibrated_fields_n: run
+                    .field_rung
+                    .as_ref()
+                    .map_or(f64::NAN, |f| f.fields.0[k][i]),
+                model_discs_n: run
+                    .field_rung
+                    .as_ref()
+                    .map_or(f64::NAN, |f| f.discs.0[k][i]),
             });
         }
     }
@@ -303,6 +357,18 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             .sensors
             .iter()
             .map(|s| (s.name.as_str(), "caps", s)),
+    )
+    .chain(
+        run.field_rung
+            .iter()
+            .flat_map(|f| f.fields.1.sensors.iter())
+            .map(|s| (s.name.as_str(), "calibrated fields", s)),
+    )
+    .chain(
+        run.field_rung
+            .iter()
+            .flat_map(|f| f.discs.1.sensors.iter())
+            .map(|s| (s.name.as_str(), "discs", s)),
     );
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {

@@ -92,15 +92,25 @@ pub struct TextureArgs {
     #[arg(long)]
     pub no_resolution: bool,
     /// With `--textures`: also segment each road a second way
-    /// (`min_prominence` doubled) and measure how far the calibrated rung's
-    /// outputs move (docs/validation.md, "Segmentation invariance").
+    /// (`min_prominence` doubled) and measure how far one rung's outputs
+    /// move (docs/validation.md, "Segmentation invariance").
     #[arg(long)]
     pub segmentation: bool,
+    /// With `--segmentation`: the rung measured (any name of
+    /// `fidelity::RUNGS`).
+    #[arg(long, default_value = "calibrated")]
+    pub segmentation_rung: String,
     /// With `--textures`: only these rungs, comma-separated names (e.g.
     /// "calibrated,calibrated_fields"); every rung of `fidelity::RUNGS`
     /// when absent.
     #[arg(long, value_delimiter = ',')]
     pub rungs: Vec<String>,
+    /// With `--textures`: passes of the block fields' two-scale rebuild
+    /// that solve each cap again under its neighbours' displacement
+    /// (docs/validation.md, "Caps rebuilt beside their neighbours"); 0
+    /// rebuilds each cap alone (the tables measured before session 9).
+    #[arg(long, default_value_t = 2)]
+    pub neighbour_passes: usize,
 }
 
 /// Runs the texture validation; fails only if a case cannot be run at all
@@ -134,12 +144,19 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
         calibration: CalibrationOptions::default(),
         rungs: rungs.clone(),
         solver: SolverOptions::default(),
+        neighbour_passes: args.neighbour_passes,
     };
     let mut results = Vec::new();
     let mut report = String::new();
+    let segmentation_rung: Fidelity = args
+        .segmentation_rung
+        .trim()
+        .parse()
+        .context("--segmentation-rung")?;
+    let segmentation_header = segmentation_header(segmentation_rung);
     let mut segmentation = String::new();
     if args.segmentation {
-        say!("\n{SEGMENTATION_HEADER}");
+        say!("\n{segmentation_header}");
     }
     for (label, body) in kinds {
         let s = scenario(label, body, cells, spacing_mm)?;
@@ -184,7 +201,7 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
             tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?
         );
         if args.segmentation {
-            let rows = segmentation_rows(label, &map, material, &options)?;
+            let rows = segmentation_rows(label, &map, material, &options, segmentation_rung)?;
             say_part!("{rows}");
             segmentation.push_str(&rows);
         }
@@ -192,7 +209,7 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     }
     report.push_str(&tables(&results, &rungs, cells, spacing_mm)?);
     if args.segmentation {
-        writeln!(report, "\n{SEGMENTATION_HEADER}")?;
+        writeln!(report, "\n{segmentation_header}")?;
         report.push_str(&segmentation);
     }
     say!("\n== all roads ==");
@@ -203,31 +220,47 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     Ok(())
 }
 
-const SEGMENTATION_HEADER: &str = "Segmentation invariance (rung `calibrated`, forces as fields; \
-     segmentation b = min_prominence doubled):\n\n\
-     | road | W (N) | asperities a / b | approach b vs a | area b vs a | moved 10 mm block | moved 5 mm block |\n\
-     |---|---|---|---|---|---|---|";
+fn segmentation_header(rung: Fidelity) -> String {
+    format!(
+        "Segmentation invariance (rung `{rung}`, forces as fields; \
+         segmentation b = min_prominence doubled):\n\n\
+         | road | W (N) | asperities a / b | approach b vs a | area b vs a | moved 10 mm block | moved 5 mm block |\n\
+         |---|---|---|---|---|---|---|"
+    )
+}
 
-/// The rows of one road: the calibrated rung under the harness's
-/// segmentation and under `min_prominence` doubled.
+/// The rows of one road: `rung` under the harness's segmentation and under
+/// `min_prominence` doubled.
 fn segmentation_rows(
     label: &str,
     map: &tyreroad::texture::HeightMap,
     material: tyreroad::contact_law::Material,
     options: &CompareOptions,
+    rung: Fidelity,
 ) -> Result<String> {
     let doubled = tyreroad::texture_road::TextureRoadOptions {
         min_prominence: 2.0 * options.road.min_prominence,
         ..options.road
     };
     let calibrator = tyreroad::fidelity::Calibrator::new(material, options.calibration);
+    // The field coupling reads each table's binned pressure field.
+    let calibrator = if rung == Fidelity::CalibratedFields {
+        calibrator.with_fields()
+    } else {
+        calibrator
+    };
+    let rebuild = tyreroad::two_scale::TwoScaleOptions {
+        neighbour_passes: options.neighbour_passes,
+        ..Default::default()
+    };
     let rows = segmentation_spread(
         map,
         material,
         &options.loads,
         [&options.road, &doubled],
-        tyreroad::fidelity::Fidelity::Calibrated,
+        rung,
         &options.solver,
+        &rebuild,
         &calibrator,
     )
     .with_context(|| format!("segmentation of `{label}`"))?;

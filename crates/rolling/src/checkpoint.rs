@@ -64,6 +64,15 @@ impl Fnv {
 /// Depths (m) at which each law is probed for the input hash.
 const PROBES: [f64; 5] = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
 
+/// `hash` (an [`input_hash`]) keyed further by a step coupling's key
+/// ([`crate::StepCoupling::key`]).
+pub(crate) fn with_coupling(hash: u64, key: u64) -> u64 {
+    let mut h = Fnv(hash);
+    h.u(0xc0u64);
+    h.u(key);
+    h.0
+}
+
 /// Hash of everything that determines a run's results: the road (positions,
 /// heights, and each law's fingerprint — force and stiffness at 0.1 µm to
 /// 1 mm), the material and the configuration. Not the chunking nor the

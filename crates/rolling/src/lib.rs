@@ -118,6 +118,7 @@
 
 mod checkpoint;
 mod config;
+mod coupling;
 mod record;
 mod road;
 mod run;
@@ -130,11 +131,14 @@ mod tread;
 
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
+pub use coupling::{CouplingState, Spread, StepCoupling};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
 };
 pub use road::Road;
-pub use run::{Progress, ProgressFn, RunOptions, roll, roll_range};
+pub use run::{
+    Progress, ProgressFn, RunOptions, roll, roll_coupled, roll_range, roll_range_coupled,
+};
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,

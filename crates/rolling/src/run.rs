@@ -12,6 +12,7 @@ use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::Par;
 
 use crate::checkpoint;
+use crate::coupling::StepCoupling;
 use crate::step::{Carry, Scratch, solve_step};
 use crate::{CheckpointOptions, Road, RollingConfig, RollingError, RollingResult, StepRecord};
 
@@ -120,6 +121,53 @@ pub fn roll_range<L: ContactLaw + Sync>(
     warmup: usize,
     options: &RunOptions<'_>,
 ) -> Result<RollingResult, RollingError> {
+    roll_range_coupled(road, material, config, range, warmup, options, None)
+}
+
+/// [`roll`] with each step solved as the fixed point of `coupling`'s
+/// correction ([`StepCoupling`], docs/rolling.md "Coupled steps"): the
+/// asperities at their contact points, each step warm-started from the
+/// previous step's forces and correction, a step whose fixed point does
+/// not settle recorded as failed with its last change as residual. The
+/// checkpoint key includes [`StepCoupling::key`]. Results agree across
+/// chunkings to the coupling's tolerance (not the solver's).
+///
+/// Errors: as [`roll`], and [`RollingError::InvalidInput`] when the
+/// coupling cannot compute a correction.
+pub fn roll_coupled<L: ContactLaw + Sync>(
+    road: &Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    options: &RunOptions<'_>,
+    coupling: &dyn StepCoupling<L>,
+) -> Result<RollingResult, RollingError> {
+    config.validate()?;
+    if let Some(ck) = options.checkpoint {
+        checkpoint::remove_unfinished(&ck.dir)?;
+    }
+    roll_range_coupled(
+        road,
+        material,
+        config,
+        0..config.steps(),
+        0,
+        options,
+        Some(coupling),
+    )
+}
+
+/// [`roll_range`] under an optional coupling ([`roll_coupled`]).
+///
+/// Errors: as [`roll_range`] and [`roll_coupled`].
+pub fn roll_range_coupled<L: ContactLaw + Sync>(
+    road: &Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    range: std::ops::Range<usize>,
+    warmup: usize,
+    options: &RunOptions<'_>,
+    coupling: Option<&dyn StepCoupling<L>>,
+) -> Result<RollingResult, RollingError> {
     config.validate()?;
     let path_steps = config.steps();
     if range.is_empty() || range.end > path_steps {
@@ -130,7 +178,14 @@ pub fn roll_range<L: ContactLaw + Sync>(
     }
     let first = range.start;
     let total = range.len();
-    let hash = checkpoint::input_hash(road, &material, config);
+    let hash = match coupling {
+        None => checkpoint::input_hash(road, &material, config),
+        // A coupled run is another model: its steps never resume an
+        // uncoupled run's, nor one of another coupling.
+        Some(c) => {
+            checkpoint::with_coupling(checkpoint::input_hash(road, &material, config), c.key())
+        }
+    };
     // Indexed from `first`: a rank holds its own steps only.
     let mut done: Vec<Option<StepRecord>> = vec![None; total];
     let mut states = HashMap::new();
@@ -187,6 +242,7 @@ pub fn roll_range<L: ContactLaw + Sync>(
             (&done[a - first..b - first], &states),
             (&counter, &stop),
             (total, resumed),
+            coupling,
         )
     };
     let outcomes: Vec<Result<Vec<StepRecord>, RollingError>> = match options.par {
@@ -252,19 +308,25 @@ fn run_chunk<L: ContactLaw + Sync>(
     (loaded, states): (&[Option<StepRecord>], &HashMap<usize, Carry>),
     (counter, stop): (&AtomicUsize, &AtomicBool),
     (total, resumed): (usize, usize),
+    coupling: Option<&dyn StepCoupling<L>>,
 ) -> Result<Vec<StepRecord>, RollingError> {
     let mut records: Vec<StepRecord> = Vec::with_capacity(b - a);
-    let mut scratch = Scratch {
-        dense: vec![0.0; road.len()],
-        ids: Vec::new(),
-    };
+    let mut scratch = Scratch::new(road.len());
     let mut carry = None;
     // Warm-up: the steps before the chunk, solved only for their final
     // state. Not when the chunk's first step is resumed from the checkpoint
     // (the saved state, if any, takes over there).
     if loaded.first().is_some_and(Option::is_none) {
         for k in a.saturating_sub(warmup)..a {
-            solve_step(road, material, config, k, &mut carry, &mut scratch)?;
+            solve_step(
+                road,
+                material,
+                config,
+                k,
+                &mut carry,
+                &mut scratch,
+                coupling,
+            )?;
         }
     }
     let mut last_write = Instant::now();
@@ -302,9 +364,20 @@ fn run_chunk<L: ContactLaw + Sync>(
             // computes), else cold: its result does not depend on the start
             // to the solver tolerance.
             carry = states.get(&k).cloned();
+            // A coupled run's warm correction is not checkpointed: the
+            // next computed step starts its fixed point afresh.
+            scratch.correction.clear();
             continue;
         }
-        let record = match solve_step(road, material, config, k, &mut carry, &mut scratch) {
+        let record = match solve_step(
+            road,
+            material,
+            config,
+            k,
+            &mut carry,
+            &mut scratch,
+            coupling,
+        ) {
             Ok(r) => r,
             Err(e) => {
                 if unsaved {

@@ -69,6 +69,37 @@ impl Sensor {
     }
 }
 
+impl Sensor {
+    /// The part (N) of a contact's `force` that the sensor sees when the
+    /// force is spread as `spread` around `centre` (the contact point): each
+    /// point's weight uniform over its square, counted with the fraction of
+    /// the square inside the rectangle. Sensors tiling the road share the
+    /// force exactly (their fractions sum to one).
+    pub fn share_spread(&self, centre: [f64; 2], force: f64, spread: &crate::Spread) -> f64 {
+        if !(force > 0.0) {
+            return 0.0;
+        }
+        let half = 0.5 * spread.cell;
+        let fraction = |c: f64, [a, b]: [f64; 2]| {
+            if half > 0.0 {
+                ((c + half).min(b) - (c - half).max(a)).max(0.0) / spread.cell
+            } else if a <= c && c < b {
+                1.0
+            } else {
+                0.0
+            }
+        };
+        force
+            * spread
+                .points
+                .iter()
+                .map(|(p, w)| {
+                    w * fraction(centre[0] + p[0], self.x) * fraction(centre[1] + p[1], self.y)
+                })
+                .sum::<f64>()
+    }
+}
+
 /// Rings of the equal-force rule of [`Sensor::share`].
 pub const SHARE_RINGS: usize = 24;
 /// Spokes of the equal-force rule of [`Sensor::share`] (a multiple of 4, so

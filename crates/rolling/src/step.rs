@@ -4,10 +4,11 @@
 
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
-    Boussinesq, Control, Convergence, Par, Problem, Recovery, Solution, SolveError, SolverOptions,
-    overlapping_contacts, solve_from,
+    Boussinesq, Control, Convergence, PairCorrection, Par, Problem, Recovery, Solution, SolveError,
+    SolverOptions, overlapping_contacts, solve_corrected, solve_from,
 };
 
+use crate::coupling::{CouplingState, KeptCorrection, StepCoupling};
 use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread};
 
 /// The selected asperity ids and the multipoint problem on them.
@@ -54,9 +55,33 @@ pub(crate) fn build<'r, L: ContactLaw>(
     xc: f64,
     ids: &[usize],
 ) -> Result<Problem<&'r L>, RollingError> {
+    build_at(road, material, config, xc, ids, false)
+}
+
+/// [`build`], with the asperities placed at their contact points instead
+/// of their summits when `at_contact_points` (a coupled step: its
+/// correction places each asperity's pressure where its contact is, and
+/// the point kernel it corrects must start from the same place).
+pub(crate) fn build_at<'r, L: ContactLaw>(
+    road: &'r Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    xc: f64,
+    ids: &[usize],
+    at_contact_points: bool,
+) -> Result<Problem<&'r L>, RollingError> {
     let (pos, z, laws, top) = (road.positions(), road.heights(), road.laws(), road.top());
     let yc = config.lateral;
-    let positions = ids.iter().map(|&i| pos[i]).collect();
+    let positions = ids
+        .iter()
+        .map(|&i| {
+            if at_contact_points {
+                contact_point(road, config, xc, i)
+            } else {
+                pos[i]
+            }
+        })
+        .collect();
     // The gap at each cap's contact point (the summit's when the road has
     // no summit radii): under a sloping tread it lies off the summit.
     let gaps = ids
@@ -113,10 +138,26 @@ pub(crate) struct Carry {
     pub approach: f64,
 }
 
-/// Per-chunk scratch: a dense id → force map for warm-start mapping.
+/// Per-chunk scratch: a dense id → force map for warm-start mapping, a
+/// dense id → step index map, and the previous step's coupling
+/// correction (road-local ids; empty when the previous step failed or
+/// there was none).
 pub(crate) struct Scratch {
     pub(crate) dense: Vec<f64>,
     pub(crate) ids: Vec<usize>,
+    pub(crate) index: Vec<usize>,
+    pub(crate) correction: KeptCorrection,
+}
+
+impl Scratch {
+    pub(crate) fn new(len: usize) -> Self {
+        Self {
+            dense: vec![0.0; len],
+            ids: Vec::new(),
+            index: vec![usize::MAX; len],
+            correction: Vec::new(),
+        }
+    }
 }
 
 pub(crate) fn solve_step<L: ContactLaw + Sync>(
@@ -126,6 +167,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     k: usize,
     carry: &mut Option<Carry>,
     scratch: &mut Scratch,
+    coupling: Option<&dyn StepCoupling<L>>,
 ) -> Result<StepRecord, RollingError> {
     let xc = config.position(k);
     let control = imposed(road, config.control);
@@ -153,6 +195,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     };
     if scratch.ids.is_empty() {
         *carry = None;
+        scratch.correction.clear();
         return match control {
             Control::Approach(d) => Ok(empty(d)),
             // No load and no asperity: the approach is undefined (−∞).
@@ -161,7 +204,32 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         };
     }
     let ids = std::mem::take(&mut scratch.ids);
-    let problem = build(road, material, config, xc, &ids)?;
+    let problem = build_at(road, material, config, xc, &ids, coupling.is_some())?;
+    // The previous step's correction on the pairs still selected, in this
+    // step's indices: the warm start of the coupling's fixed point.
+    let warm_correction = match coupling {
+        Some(_) => {
+            for (a, &i) in ids.iter().enumerate() {
+                scratch.index[i] = a;
+            }
+            let pairs: Vec<_> = scratch
+                .correction
+                .iter()
+                .filter_map(|&(i, j, c)| {
+                    let (a, b) = (scratch.index[i], scratch.index[j]);
+                    (a != usize::MAX && b != usize::MAX).then_some((a, b, c))
+                })
+                .collect();
+            for &i in &ids {
+                scratch.index[i] = usize::MAX;
+            }
+            PairCorrection::new(ids.len(), pairs).map_err(|source| RollingError::Solve {
+                position: xc,
+                source,
+            })?
+        }
+        None => PairCorrection::default(),
+    };
     // Warm start: previous forces mapped by asperity id, new ones at 0.
     let initial = carry.as_ref().map(|c| {
         for (&i, &p) in c.ids.iter().zip(&c.forces) {
@@ -179,6 +247,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             &mut u,
             Par::Seq,
         );
+        warm_correction.apply_add(&forces, &mut u);
         let depths = problem
             .gaps()
             .iter()
@@ -198,7 +267,32 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         *carry = None;
         return Ok(failed_step(config, k, ids.len(), 0, 1.0));
     }
-    let solution = match solve_from(&problem, control, &options, initial.as_ref()) {
+    let solved = match coupling {
+        None => solve_from(&problem, control, &options, initial.as_ref()),
+        Some(coupling) => {
+            let fixed = fixed_point(
+                &problem,
+                &ids,
+                (control, &options),
+                initial.as_ref(),
+                &warm_correction,
+                coupling,
+                (road, xc),
+            )?;
+            match fixed {
+                Ok((solution, correction)) => {
+                    scratch.correction = correction
+                        .pairs()
+                        .iter()
+                        .map(|&(a, b, c)| (ids[a], ids[b], c))
+                        .collect();
+                    Ok(solution)
+                }
+                Err(e) => Err(e),
+            }
+        }
+    };
+    let solution = match solved {
         Ok(solution) => solution,
         // One step that does not converge is that step's failure, not the
         // run's: it is recorded with NaN values and the next step
@@ -209,6 +303,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             ..
         }) => {
             *carry = None;
+            scratch.correction.clear();
             return Ok(failed_step(config, k, ids.len(), iterations, residual));
         }
         Err(source) => {
@@ -235,8 +330,12 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             area += contacts[a].area();
             // The patch is centred on the contact point, not the summit.
             let centre = contact_point(road, config, xc, i);
+            let spread = coupling.and_then(|c| c.spread(problem.laws()[a], solution.depths[a]));
             for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
-                *f += s.share(centre, &contacts[a]);
+                *f += match &spread {
+                    Some(spread) => s.share_spread(centre, p, spread),
+                    None => s.share(centre, &contacts[a]),
+                };
             }
         }
     }
@@ -265,6 +364,128 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         approach: solution.approach,
     });
     Ok(record)
+}
+
+/// The coupled step's fixed point (crate::coupling): the solution and the
+/// correction it was solved with, or the step's failure as a
+/// [`SolveError::NotConverged`] (a round's solve that failed, or a fixed
+/// point still moving after the coupling's rounds, its residual the last
+/// change over the scale). The outer error is the run's.
+#[allow(clippy::too_many_arguments)]
+fn fixed_point<L: ContactLaw + Sync>(
+    problem: &Problem<&L>,
+    ids: &[usize],
+    (control, options): (Control, &SolverOptions),
+    initial: Option<&Solution>,
+    warm: &PairCorrection,
+    coupling: &dyn StepCoupling<L>,
+    (road, xc): (&Road<L>, f64),
+) -> Result<Result<(Solution, PairCorrection), SolveError>, RollingError> {
+    let mut iterations = 0;
+    let mut s = match solve_corrected(problem, control, options, initial, warm) {
+        Ok(s) => s,
+        Err(e) => return Ok(Err(e)),
+    };
+    iterations += s.iterations;
+    let scale = match control {
+        Control::Load(w) => w,
+        Control::Approach(_) => s.forces.iter().sum(),
+    };
+    if !(scale > 0.0) {
+        // Nothing in contact: nothing to couple.
+        coupling.settled(0);
+        return Ok(Ok((s, PairCorrection::default())));
+    }
+    let offsets: Vec<[f64; 2]> = ids
+        .iter()
+        .zip(problem.positions())
+        .map(|(&i, p)| {
+            let summit = road.positions()[i];
+            [p[0] - summit[0], p[1] - summit[1]]
+        })
+        .collect();
+    let mut change = f64::INFINITY;
+    let mut previous = f64::INFINITY;
+    let mut used = warm.clone();
+    let mut weight = 1.0;
+    for round in 1..=coupling.max_rounds() {
+        let state = CouplingState {
+            ids,
+            problem,
+            offsets: &offsets,
+            depths: &s.depths,
+            forces: &s.forces,
+        };
+        let mut c = coupling.correction(&state).map_err(|m| {
+            RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
+        })?;
+        // From round DAMPED_AFTER + 1 on, a relaxed step `(1 − β) C_used +
+        // β C(δ)`, β halved (down to 1/16) whenever a round did not halve
+        // the change: two contacts whose patches overlap can make the
+        // plain iteration cycle; the blend keeps the same fixed point
+        // (where C(δ) is the C solved with) and damps the cycle.
+        if round > DAMPED_AFTER {
+            c = blend(&used, &c, weight, problem.len(), xc)?;
+        }
+        let next = match solve_corrected(problem, control, options, Some(&s), &c) {
+            Ok(next) => next,
+            Err(e) => return Ok(Err(e)),
+        };
+        iterations += next.iterations;
+        used = c;
+        change = next
+            .forces
+            .iter()
+            .zip(&s.forces)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        s = next;
+        if round >= DAMPED_AFTER && change > 0.5 * previous {
+            weight = (0.5 * weight).max(1.0 / 16.0);
+        }
+        previous = change;
+        if change <= coupling.tolerance() {
+            coupling.settled(round);
+            s.iterations = iterations;
+            return Ok(Ok((s, used)));
+        }
+    }
+    Ok(Err(SolveError::NotConverged {
+        iterations,
+        load_steps: 0,
+        residual: change,
+    }))
+}
+
+/// Rounds of a coupled step's fixed point taken whole before each new
+/// correction is blended with the one last solved with.
+const DAMPED_AFTER: usize = 4;
+
+/// `(1 − β) a + β b` pair by pair (a pair missing from one counts 0
+/// there), for a problem of `n` asperities.
+fn blend(
+    a: &PairCorrection,
+    b: &PairCorrection,
+    beta: f64,
+    n: usize,
+    xc: f64,
+) -> Result<PairCorrection, RollingError> {
+    let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
+    for (&(i, j, c), w) in a
+        .pairs()
+        .iter()
+        .map(|p| (p, 1.0 - beta))
+        .chain(b.pairs().iter().map(|p| (p, beta)))
+    {
+        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += w * c;
+    }
+    PairCorrection::new(n, sum.into_iter().map(|((i, j), c)| (i, j, c)).collect()).map_err(
+        |source| RollingError::Solve {
+            position: xc,
+            source,
+        },
+    )
 }
 
 /// The record of a step whose solve failed: NaN values, no contacts.

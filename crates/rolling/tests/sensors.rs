@@ -135,3 +135,40 @@ fn sensors_tiling_the_road_sum_to_the_total_force_at_every_step() {
     // contacts are indeed split, not attributed whole.
     assert!(split > 0);
 }
+
+/// A spread force ([`Sensor::share_spread`]): each point's square counted
+/// with the fraction inside, so a square cut in half by an edge gives half
+/// its weight, one wholly inside all of it, and sensors tiling the road
+/// share the force exactly.
+#[test]
+fn a_spread_force_is_split_by_the_area_of_each_square() {
+    let spread = tyreroad_rolling::Spread {
+        points: vec![
+            ([0.0, 0.0], 0.25),
+            ([1e-3, 0.0], 0.5),
+            ([-2e-3, 1e-3], 0.25),
+        ],
+        cell: 0.5e-3,
+    };
+    let centre = [0.01, 0.01];
+    // Wholly inside: the force.
+    let inside = sensor([0.0, 0.02], [0.0, 0.02]);
+    assert!((inside.share_spread(centre, 4.0, &spread) - 4.0).abs() < 1e-12);
+    // An edge through the first point's centre (x = 10 mm): half of its
+    // weight, all of the second's, none of the third's.
+    let right = sensor([0.01, 0.02], [0.0, 0.02]);
+    let expected = 4.0 * (0.5 * 0.25 + 0.5);
+    assert!((right.share_spread(centre, 4.0, &spread) - expected).abs() < 1e-12);
+    // A 3 × 3 tiling with edges through the points: the shares sum to the
+    // force.
+    let edges = [-1.0, 0.0095, 0.01025, 1.0];
+    let mut sum = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            let s = sensor([edges[i], edges[i + 1]], [edges[j], edges[j + 1]]);
+            sum += s.share_spread(centre, 4.0, &spread);
+        }
+    }
+    assert!((sum - 4.0).abs() < 1e-12, "{sum}");
+    assert_eq!(inside.share_spread(centre, 0.0, &spread), 0.0);
+}
