@@ -4,6 +4,8 @@
 //! point coupling, distributed near-pair coupling, clusters, and the
 //! calibrated pressure fields' coupling by its fixed point), and the
 //! calibration of one cap.
+//! And the calibration of one road's caps, with the reference and the
+//! default calibration options.
 //! And rolling (issue #15: "the rolling fixture with the best rung must
 //! stay within 3× of its time today"): 40 steps of the chip-seal fixture
 //! (`fixtures/rolling_tyre_chip_seal.toml`) on its Wilke road and on its
@@ -179,6 +181,56 @@ fn bench_rolling(c: &mut Criterion) {
     group.finish();
 }
 
+/// The caps of one road calibrated from scratch (a new [`Calibrator`] per
+/// iteration, one thread), with [`CalibrationOptions::reference`] and with
+/// the default options (docs/performance.md, "Calibration cost"): the
+/// chip seal of `cargo xtask validate --textures` on 20 × 20 mm at 0.1 mm,
+/// each cap tabulated to 1.3 × the Wilke model's approach at 75 N (the
+/// mean pressure of the harness's 300 N on its 40 × 40 mm).
+fn bench_calibration(c: &mut Criterion) {
+    use tyreroad::fidelity::calibrated_set;
+    use tyreroad::scenario::Scenario;
+    use tyreroad::texture_road::{TextureRoadOptions, texture_road};
+
+    let text = "name = \"calibration\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\n\
+                poisson_ratio = 0.5\n[texture]\nmin_prominence = \"0.2 mm\"\n\
+                min_area = \"2 mm2\"\n[texture.synth]\nnx = 200\nny = 200\n\
+                spacing = \"0.1 mm\"\nkind = \"worn_chip_seal\"\nseed = 19\n";
+    let scenario = Scenario::parse(text, "chip seal").expect("scenario");
+    let map = scenario
+        .texture
+        .as_ref()
+        .expect("texture")
+        .height_map(std::path::Path::new("."))
+        .expect("map");
+    let road = texture_road(&map, rubber(), &TextureRoadOptions::new(0.2e-3, 2e-6)).expect("road");
+    let wilke = Problem::from_set(road.set.clone(), rubber()).expect("problem");
+    let approach = solve(&wilke, Control::Load(75.0), &SolverOptions::default())
+        .expect("wilke")
+        .approach;
+    let max_approach = tyreroad::fidelity::compare::APPROACH_MARGIN * approach;
+    let mut group = c.benchmark_group("fidelity/calibrate_chip_seal_20mm");
+    group.sample_size(10);
+    for (name, options) in [
+        ("reference", CalibrationOptions::reference()),
+        ("default", CalibrationOptions::default()),
+    ] {
+        let run = || {
+            let calibrator = Calibrator::new(rubber(), options);
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .expect("pool");
+            pool.install(|| calibrated_set(&road, &map, max_approach, &calibrator))
+                .expect("calibration");
+            calibrator.counts().solved
+        };
+        eprintln!("{name}: {} caps of {} asperities", run(), road.len());
+        group.bench_function(name, |b| b.iter(run));
+    }
+    group.finish();
+}
+
 /// The fixture's calibrated rolling road with its fields (what `[model]
 /// fidelity = "calibrated_fields"` rolls; its laws are the `calibrated`
 /// rung's, so both rungs are timed on it): the texture road in the
@@ -214,5 +266,5 @@ fn calibrated_with_fields(
     Road::new(cal.set).with_summit_radii(radii).expect("radii")
 }
 
-criterion_group!(benches, bench_rungs, bench_rolling);
+criterion_group!(benches, bench_rungs, bench_rolling, bench_calibration);
 criterion_main!(benches);

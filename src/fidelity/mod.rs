@@ -48,8 +48,8 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use calibrate::{
-    CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, Calibrator, CapPatch,
-    HEIGHT_QUANTUM, calibrate, calibrate_with_fields,
+    CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, CalibrationStats, Calibrator,
+    CapPatch, HEIGHT_QUANTUM, WarmStart, calibrate, calibrate_with_fields,
 };
 pub use texture::{calibrated_set, cap_patch};
 

@@ -252,3 +252,41 @@ fn a_paraboloid_field_is_centred_and_has_the_hertz_spread() {
             .is_none()
     );
 }
+
+/// The default (cheap) options against the reference on the paraboloid:
+/// the same knots, forces within 1e-5 of the largest, areas within a
+/// cell; and a disk cache written under one set of options is not read
+/// back under another (the key hashes them).
+#[test]
+fn the_default_options_give_the_reference_table_and_their_own_cache_entries() {
+    let m = material();
+    let reference = calibrate(&paraboloid(), 0.2e-3, &m, &CalibrationOptions::reference()).unwrap();
+    let cheap = calibrate(&paraboloid(), 0.2e-3, &m, &CalibrationOptions::default()).unwrap();
+    let f_max = reference.max_depth();
+    let (f_top, cell) = (reference.force_at(f_max).0, 5e-5 * 5e-5);
+    for ((d1, f1, a1), (d2, f2, a2)) in reference.knots().zip(cheap.knots()) {
+        assert_eq!(d1, d2);
+        assert!((f1 - f2).abs() <= 1e-5 * f_top, "δ = {d1}: {f1} vs {f2}");
+        assert!((a1 - a2).abs() <= 1.5 * cell, "δ = {d1}: {a1} vs {a2}");
+    }
+    // The cheap table did less BEM work (iterations × cells).
+    let work = |t: &CalibratedTable| -> usize {
+        let s = t.stats();
+        s.iterations
+            .iter()
+            .zip(&s.windows)
+            .map(|(i, w)| i * w[0] * w[1])
+            .sum()
+    };
+    assert!(2 * work(&cheap) < work(&reference));
+    let dir = tempfile::tempdir().unwrap();
+    let small = || CapPatch::from_fn(21, 1e-4, |x, y| -(x * x + y * y) / 1e-2).unwrap();
+    Calibrator::new(m, CalibrationOptions::reference())
+        .with_disk_cache(dir.path())
+        .law(&small(), 0.1e-3)
+        .unwrap();
+    let other = Calibrator::new(m, CalibrationOptions::default()).with_disk_cache(dir.path());
+    other.law(&small(), 0.1e-3).unwrap();
+    assert_eq!(other.counts().solved, 1);
+    assert_eq!(other.counts().disk_hits, 0);
+}

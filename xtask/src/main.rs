@@ -21,6 +21,8 @@
 //! - `visco-sweep SCENARIO [--speeds 30..130] [--temperatures 0degC,20degC,40degC]`:
 //!   viscoelastic rolling runs against speed and temperature, a table and
 //!   charts of the overall and band levels.
+//! - `calib-cost [--nodes N] [--tolerance T]`: the calibrated laws' cost per
+//!   table on the seven texture kinds, and how far cheaper options move them.
 
 /// `println!` that a closed stdout does not stop: `xtask run … | head`
 /// closes the pipe after a line, and `println!` would panic there and lose
@@ -42,6 +44,7 @@ macro_rules! say_part {
 }
 
 mod bem_validation;
+mod calib_cost;
 mod charts;
 mod converge_sweep;
 mod film_cmd;
@@ -127,6 +130,9 @@ enum Command {
     /// Viscoelastic rolling runs of a scenario against speed and
     /// temperature: a table and charts of the overall and band levels.
     ViscoSweep(Box<visco_sweep::ViscoSweepArgs>),
+    /// What a calibrated law's table costs on the seven texture kinds, and
+    /// how far cheaper calibration options move the tables.
+    CalibCost(calib_cost::CalibCostArgs),
 }
 
 fn main() -> Result<()> {
@@ -140,6 +146,7 @@ fn main() -> Result<()> {
         Command::Sweep(args) => sweep_cmd::run(&args),
         Command::History(args) => history_cmd::run(&args),
         Command::ViscoSweep(args) => visco_sweep::run(&args),
+        Command::CalibCost(args) => calib_cost::run(&args),
         #[cfg(feature = "mpi")]
         Command::MpiRun(args) => sweep_cmd::mpi_run(&args),
         Command::Run {

@@ -30,7 +30,7 @@ const COST_TARGET: f64 = 100.0;
 const LOADS: [f64; 3] = [50.0, 150.0, 300.0];
 
 /// (label, `[texture.synth]` body without the grid: kind, seed, extras).
-const KINDS: [(&str, &str); 7] = [
+pub(crate) const KINDS: [(&str, &str); 7] = [
     (
         "self-affine H 0.6",
         "kind = \"self_affine\"\nseed = 6\nrms = \"0.4 mm\"\nhurst = 0.6\nlambda_long = \"20 mm\"\nlambda_short = \"0.5 mm\"\n",
@@ -58,7 +58,7 @@ const KINDS: [(&str, &str); 7] = [
 /// The label of the kind whose BEM resolution convergence is shown.
 const RESOLUTION_KIND: &str = "chip seal";
 
-fn scenario(label: &str, body: &str, cells: usize, spacing_mm: f64) -> Result<Scenario> {
+pub(crate) fn scenario(label: &str, body: &str, cells: usize, spacing_mm: f64) -> Result<Scenario> {
     let text = format!(
         "name = \"fidelity\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
          [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\

@@ -368,6 +368,14 @@ impl Convolver {
     }
 }
 
+/// The largest number of cells along a non-periodic axis whose FFT grid is
+/// the one of `n` cells (`padded_len(n) / 2`, `≥ n`): a grid grown to it
+/// costs the same per product `K p`, so a caller solving a growing window
+/// can grow it that far without building another [`crate::Solver`].
+pub fn cells_at_same_fft_cost(n: usize) -> usize {
+    (padded_len(n) / 2).max(n)
+}
+
 /// FFT length for a linear convolution of `n` cells: the smallest even
 /// 7-smooth number (2^a 3^b 5^c 7^d) ≥ 2n − 1, on which the FFTs are fast.
 pub(crate) fn padded_len(n: usize) -> usize {
@@ -514,6 +522,13 @@ mod tests {
         assert_eq!(padded_len(513), 1050);
         assert_eq!(padded_len(7), 14);
         assert_eq!(padded_len(11), 24);
+        // 24 = padded_len(11) is also 12 cells' length, and no more's.
+        assert_eq!(cells_at_same_fft_cost(11), 12);
+        for n in 1..300 {
+            let m = cells_at_same_fft_cost(n);
+            assert!(m >= n && padded_len(m) == padded_len(n), "n = {n}");
+            assert!(padded_len(m + 1) > padded_len(n), "n = {n}");
+        }
     }
 
     #[test]
