@@ -2,7 +2,7 @@
 //! synthetic road of spheres), the run, and the spectra of its signals
 //! (docs/rolling.md).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use tyreroad_contact_law::{ContactLaw, Material};
@@ -10,12 +10,11 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
-use super::rolling_fields::calibrated_road;
-use super::texture::{TextureSummary, rolling_texture_road_set};
-use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::fidelity::Fidelity;
+use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
+use super::texture::{TextureSummary, calibrated_texture_road_set_with, rolling_texture_road_set};
+use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::rolling_fields::FieldRolling;
-use crate::texture_road::window::NpyTextureRoad;
+use crate::fidelity::{CalibratedLaw, Fidelity};
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -312,6 +311,40 @@ pub(crate) fn rolling_on_road(
     }
 }
 
+/// The scenario's texture road with each selectable cap's calibrated law,
+/// with its fields when `fields`, and its summary.
+pub(super) fn calibrated_road(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    texture: &TextureSpec,
+    fields: bool,
+) -> Result<(rolling::Road<CalibratedLaw>, RoadSummary), ScenarioError> {
+    let material = scenario.material()?;
+    let config = scenario.rolling_config()?;
+    let par = options
+        .par
+        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+    // Tables are kept beside the checkpoints: a resumed or repeated run on
+    // the same road does not calibrate it again.
+    let cache = options
+        .checkpoint_dir
+        .as_deref()
+        .filter(|_| spec.checkpoint)
+        .map(|dir| dir.join("calibration"));
+    let (set, summary, radii) = calibrated_texture_road_set_with(
+        texture,
+        &options.base_dir,
+        material,
+        &config,
+        par,
+        cache.as_deref(),
+        fields,
+    )?;
+    let road = rolling::Road::new(set).with_summit_radii(radii)?;
+    Ok((road, RoadSummary::Texture(summary)))
+}
+
 fn run_on<L: ContactLaw + Sync>(
     scenario: &Scenario,
     set: AsperitySet<L>,
@@ -442,78 +475,6 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
 /// whole road's candidates once (about 1 ms per metre of road), so a longer
 /// piece costs memory and a shorter one time.
 const WINDOW_PATH: f64 = 1.0;
-
-/// The scenario's texture road, opened for reading by windows, when its
-/// `[texture] file` is a `.npy` map rolled with the Wilke laws; `None` when
-/// the road is read whole (other formats, no texture, calibrated laws).
-fn npy_window_road(
-    scenario: &Scenario,
-    options: &RunOptions<'_>,
-    material: Material,
-) -> Result<Option<NpyTextureRoad>, ScenarioError> {
-    let Some(texture) = &scenario.texture else {
-        return Ok(None);
-    };
-    if scenario.model.fidelity()? != Fidelity::Wilke {
-        return Ok(None);
-    }
-    let Some(path) = npy_file(texture, options) else {
-        return Ok(None);
-    };
-    // Before the open pass over the whole file, which a spacing of 1e30 m
-    // would only make slow and useless.
-    let (dx, dy) = crate::texture::io::npy::sidecar_spacing(&path).map_err(|source| {
-        ScenarioError::Texture {
-            context: format!("[texture] reading {}", path.display()),
-            source,
-        }
-    })?;
-    super::ranges::texture_file_spacing(&path, dx, dy)?;
-    Ok(Some(NpyTextureRoad::open(
-        &path,
-        material,
-        &texture.road_options(),
-    )?))
-}
-
-/// What the texture summary says of a `.npy` road opened by windows: the
-/// whole build's counts; Sq summed tile by tile (equal to the whole map's
-/// to rounding).
-fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
-    let ((nx, ny), (dx, dy)) = (road.size(), road.spacing());
-    TextureSummary {
-        size: (nx, ny),
-        spacing: (dx, dy),
-        extent: ((nx - 1) as f64 * dx, (ny - 1) as f64 * dy),
-        rms: road.rms(),
-        asperities: road.len(),
-        segmented: road.segmented(),
-        calibration: None,
-    }
-}
-
-/// The summits of a `.npy` road opened by windows, in id order, gathered
-/// for `--gather`'s finish, which takes them whole (24 B a summit; the
-/// streamed finish walks the road itself, as a [`SummitSource`]).
-fn npy_summits(road: &NpyTextureRoad) -> Result<(Vec<[f64; 2]>, Vec<f64>), ScenarioError> {
-    let mut positions = Vec::with_capacity(road.len());
-    let mut heights = Vec::with_capacity(road.len());
-    road.summits(|_, p, z| {
-        positions.push(p);
-        heights.push(z);
-    })?;
-    Ok((positions, heights))
-}
-
-/// The `[texture] file` when it is a `.npy` map (read by windows), else
-/// `None` (read whole).
-fn npy_file(texture: &super::TextureSpec, options: &RunOptions<'_>) -> Option<PathBuf> {
-    let file = texture.file.as_ref()?;
-    let path = options.base_dir.join(file);
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
-        .then_some(path)
-}
 
 /// Where a part's pieces go as they are rolled, in path order.
 pub(crate) type PieceSink<'s> = dyn FnMut(rolling::RollingResult) -> Result<(), ScenarioError> + 's;

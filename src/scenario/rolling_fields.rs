@@ -1,50 +1,13 @@
-//! The calibrated texture road of a `[rolling]` run (`[model] fidelity =
-//! "calibrated"` or `"calibrated_fields"`), and the whole
-//! `calibrated_fields` run with the road it rolled, for
-//! `crate::bem_rolling`'s recounts of its sensors.
+//! The whole `[model] fidelity = "calibrated_fields"` run of a `[rolling]`
+//! scenario with the calibrated road it rolled, for `crate::bem_rolling`'s
+//! recounts of its sensors.
 
-use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 
-use super::rolling::{RoadSummary, Rolled, RollingRun, What, roll_road_with};
-use super::texture::calibrated_texture_road_set_with;
-use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
+use super::rolling::{Rolled, RollingRun, What, calibrated_road, roll_road_with};
+use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::CalibratedLaw;
 use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
-
-/// The scenario's texture road with each selectable cap's calibrated law,
-/// with its fields when `fields`, and its summary.
-pub(super) fn calibrated_road(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-    texture: &TextureSpec,
-    fields: bool,
-) -> Result<(rolling::Road<CalibratedLaw>, RoadSummary), ScenarioError> {
-    let material = scenario.material()?;
-    let config = scenario.rolling_config()?;
-    let par = options
-        .par
-        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-    // Tables are kept beside the checkpoints: a resumed or repeated run on
-    // the same road does not calibrate it again.
-    let cache = options
-        .checkpoint_dir
-        .as_deref()
-        .filter(|_| spec.checkpoint)
-        .map(|dir| dir.join("calibration"));
-    let (set, summary, radii) = calibrated_texture_road_set_with(
-        texture,
-        &options.base_dir,
-        material,
-        &config,
-        par,
-        cache.as_deref(),
-        fields,
-    )?;
-    let road = rolling::Road::new(set).with_summit_radii(radii)?;
-    Ok((road, RoadSummary::Texture(summary)))
-}
 
 /// A whole `[model] fidelity = "calibrated_fields"` run of the scenario's
 /// `[rolling]` on its `[texture]`, as [`Scenario::run`] makes it, with the
