@@ -126,29 +126,7 @@ pub fn field_correction(
         ));
     }
     let positions = problem.positions();
-    let fields: Vec<(UnitField, [f64; 2], f64, f64)> = problem
-        .laws()
-        .iter()
-        .zip(positions)
-        .zip(depths)
-        .enumerate()
-        .map(|(i, ((law, p), &d))| {
-            let bin = law.table().field().map(|f| f.bin_size());
-            let (Some(local), Some(bin)) = (law.unit_field(d), bin) else {
-                return Err(FidelityError::invalid(
-                    "asperity law",
-                    format!("asperity {i} without a pressure field"),
-                    "a table calibrated with fields (Calibrator::with_fields)",
-                ));
-            };
-            let field: UnitField = local
-                .into_iter()
-                .map(|(x, w)| ([p[0] + x[0], p[1] + x[1]], w))
-                .collect();
-            let (centroid, extent) = centroid_and_reach(&field, *p);
-            Ok((field, centroid, extent, bin))
-        })
-        .collect::<Result<_, _>>()?;
+    let fields = placed_fields(problem.laws().iter(), positions, depths)?;
     let factor = problem.material().boussinesq_factor();
     let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
         .into_par_iter()
@@ -327,28 +305,7 @@ pub fn sparse_field_correction(
             "finite, 1 <= near <= far",
         ));
     }
-    let fields: Vec<(UnitField, [f64; 2], f64, f64)> = laws
-        .iter()
-        .zip(positions)
-        .zip(depths)
-        .enumerate()
-        .map(|(i, ((law, p), &d))| {
-            let bin = law.table().field().map(|f| f.bin_size());
-            let (Some(local), Some(bin)) = (law.unit_field(d), bin) else {
-                return Err(FidelityError::invalid(
-                    "asperity law",
-                    format!("asperity {i} without a pressure field"),
-                    "a table calibrated with fields (Calibrator::with_fields)",
-                ));
-            };
-            let field: UnitField = local
-                .into_iter()
-                .map(|(x, w)| ([p[0] + x[0], p[1] + x[1]], w))
-                .collect();
-            let (centroid, extent) = centroid_and_reach(&field, *p);
-            Ok((field, centroid, extent, bin))
-        })
-        .collect::<Result<_, _>>()?;
+    let fields = placed_fields(laws.iter().copied(), positions, depths)?;
     let extent_max = fields.iter().map(|f| f.2).fold(0.0, f64::max);
     let mut by_x: Vec<usize> = (0..n).collect();
     by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
@@ -396,4 +353,37 @@ pub fn sparse_field_correction(
         field_pairs,
         centroid_pairs,
     })
+}
+
+/// Each asperity's unit field at its depth placed at its summit, with the
+/// field's centroid, its reach from the summit and its bin size.
+type PlacedField = (UnitField, [f64; 2], f64, f64);
+
+/// The [`PlacedField`] of every asperity; an asperity whose law has no
+/// field is a named error.
+fn placed_fields<'l>(
+    laws: impl Iterator<Item = &'l CalibratedLaw>,
+    positions: &[[f64; 2]],
+    depths: &[f64],
+) -> Result<Vec<PlacedField>, FidelityError> {
+    laws.zip(positions)
+        .zip(depths)
+        .enumerate()
+        .map(|(i, ((law, p), &d))| {
+            let bin = law.table().field().map(|f| f.bin_size());
+            let (Some(local), Some(bin)) = (law.unit_field(d), bin) else {
+                return Err(FidelityError::invalid(
+                    "asperity law",
+                    format!("asperity {i} without a pressure field"),
+                    "a table calibrated with fields (Calibrator::with_fields)",
+                ));
+            };
+            let field: UnitField = local
+                .into_iter()
+                .map(|(x, w)| ([p[0] + x[0], p[1] + x[1]], w))
+                .collect();
+            let (centroid, extent) = centroid_and_reach(&field, *p);
+            Ok((field, centroid, extent, bin))
+        })
+        .collect()
 }
