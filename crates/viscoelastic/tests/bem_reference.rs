@@ -7,19 +7,11 @@
 //! heavy for the test suite.
 
 use tyreroad_viscoelastic::{
-    Branch, Prony, Receding, SphereField, compare_on_spheres, compare_on_spheres_with,
-    ramp_hold_unload,
+    Receding, SphereField, compare_on_spheres, compare_on_spheres_with, ramp_hold_unload,
 };
 
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
+mod support;
+use support::tread;
 
 fn field() -> SphereField {
     SphereField {

@@ -12,19 +12,11 @@ use tyreroad_rolling::{
     roll,
 };
 use tyreroad_viscoelastic::{
-    Branch, Prony, ViscoError, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
+    ViscoError, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
 };
 
-/// The test tread: `E∞` = 2 MPa, branches 3 MPa at 1 ms and 5 MPa at 20 µs.
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
+mod support;
+use support::tread;
 
 /// 0.15 × 0.05 m of random spherical summits (radii 2–5 mm, heights over
 /// 2 mm), laws on `material`.

@@ -8,36 +8,13 @@
 use tyreroad_contact_law::{HertzLaw, Material};
 use tyreroad_multipoint::{Control, Problem, SolverOptions, solve};
 use tyreroad_viscoelastic::{
-    Branch, Hereditary, Prony, Receding, ViscoError, ramp_hold_unload, run_load_history_with,
+    Hereditary, Prony, Receding, ViscoError, ramp_hold_unload, run_load_history_with,
 };
 
+mod support;
+use support::{tread, twenty_five_balls};
+
 const TING: Receding = Receding::Ting { per_decade: 20 };
-
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
-
-/// 25 balls of R = 5 mm on a 5 × 5 grid of 8 mm pitch, gaps 0–40 µm in a
-/// fixed pattern, Hertz laws at a 1 MPa reference modulus.
-fn twenty_five_balls() -> Problem<HertzLaw> {
-    let reference = Material::new(1e6, 0.5).expect("valid");
-    let mut positions = Vec::new();
-    let mut gaps = Vec::new();
-    for i in 0..5 {
-        for j in 0..5 {
-            positions.push([8e-3 * i as f64, 8e-3 * j as f64]);
-            gaps.push(1e-5 * ((3 * i + 7 * j) % 5) as f64);
-        }
-    }
-    let law = HertzLaw::new(5e-3, reference).expect("valid");
-    Problem::new(positions, gaps, vec![law; 25], reference).expect("valid")
-}
 
 /// `∫_a^b E(t − s) ds` in closed form.
 fn relaxation_integral(material: &Prony, t: f64, a: f64, b: f64) -> f64 {

@@ -7,18 +7,11 @@
 //! (docs/viscoelastic.md, "Receding contacts: Ting's treatment").
 
 use tyreroad_viscoelastic::{
-    Branch, Comparison, Prony, Receding, SphereField, compare_on_spheres_with, ramp_hold_unload,
+    Comparison, Receding, SphereField, compare_on_spheres_with, ramp_hold_unload,
 };
 
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
+mod support;
+use support::tread;
 
 /// One sphere, R = 20 mm, 0.25 mm BEM cells (the contact spans ~40 cells).
 fn sphere() -> SphereField {

@@ -9,19 +9,10 @@ use tyreroad_contact_law::{Material, PotentialLaw};
 use tyreroad_rolling::{
     Road, RollingConfig, RollingControl, RollingResult, RunOptions, SyntheticRoad, Tread, roll,
 };
-use tyreroad_viscoelastic::{
-    Branch, Prony, Receding, ViscoRollOptions, ViscoRolling, roll_viscoelastic,
-};
+use tyreroad_viscoelastic::{Receding, ViscoRollOptions, ViscoRolling, roll_viscoelastic};
 
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
+mod support;
+use support::tread;
 
 /// 0.15 × 0.05 m of random spherical summits, laws on `material`.
 fn road(material: Material) -> Road<PotentialLaw<Sphere>> {

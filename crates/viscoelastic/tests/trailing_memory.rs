@@ -14,20 +14,10 @@
 use tyreroad_contact_law::{HertzLaw, Material};
 use tyreroad_multipoint::AsperitySet;
 use tyreroad_rolling::{Road, RollingConfig, RollingControl, Tread};
-use tyreroad_viscoelastic::{
-    Branch, Prony, TrailingMemory, ViscoRollOptions, ViscoRolling, roll_viscoelastic,
-};
+use tyreroad_viscoelastic::{TrailingMemory, ViscoRollOptions, ViscoRolling, roll_viscoelastic};
 
-/// The test tread: `E∞` = 2 MPa, branches 3 MPa at 1 ms and 5 MPa at 20 µs.
-fn tread() -> Prony {
-    let branches = [(3e6, 1e-3), (5e6, 2e-5)]
-        .map(|(modulus, relaxation_time)| Branch {
-            modulus,
-            relaxation_time,
-        })
-        .to_vec();
-    Prony::new(2e6, branches, 0.5).expect("valid")
-}
+mod support;
+use support::tread;
 
 const FIRST: f64 = 0.05;
 const SECOND: f64 = 0.08;
