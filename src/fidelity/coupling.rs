@@ -131,9 +131,9 @@ pub fn field_correction(
     let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
         .into_par_iter()
         .map(|i| {
-            let (fi, ci, ri, bi) = &fields[i];
+            let ri = fields[i].2;
             let mut row = Vec::new();
-            for (j, (fj, cj, rj, bj)) in fields.iter().enumerate().skip(i + 1) {
+            for (j, rj) in fields.iter().map(|f| f.2).enumerate().skip(i + 1) {
                 let r =
                     (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
                 if r == 0.0 {
@@ -141,28 +141,14 @@ pub fn field_correction(
                     continue;
                 }
                 let near = r < reach * (ri + rj);
-                let g = if near {
-                    field_compliance(fi, fj, 0.5 * bi.min(*bj))
-                } else {
-                    1.0 / (ci[0] - cj[0]).hypot(ci[1] - cj[1])
-                };
-                if (g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite() {
-                    row.push((i, j, factor * (g - 1.0 / r), near));
+                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
+                    row.push((i, j, c, near));
                 }
             }
             row
         })
         .collect();
-    let pairs: Vec<_> = rows.into_iter().flatten().collect();
-    let field_pairs = pairs.iter().filter(|p| p.3).count();
-    let centroid_pairs = pairs.len() - field_pairs;
-    let correction =
-        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
-    Ok(FieldCorrection {
-        correction,
-        field_pairs,
-        centroid_pairs,
-    })
+    field_correction_of(n, rows)
 }
 
 /// A field-coupled solution.
@@ -313,7 +299,7 @@ pub fn sparse_field_correction(
         .into_par_iter()
         .map(|k| {
             let i = by_x[k];
-            let (fi, ci, ri, bi) = &fields[i];
+            let ri = fields[i].2;
             let window = reach.far * (ri + extent_max);
             let mut row = Vec::new();
             for &j in &by_x[k + 1..] {
@@ -323,7 +309,7 @@ pub fn sparse_field_correction(
                 if !(forces[i] > 0.0 || forces[j] > 0.0) {
                     continue;
                 }
-                let (fj, cj, rj, bj) = &fields[j];
+                let rj = fields[j].2;
                 let r =
                     (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
                 // Coincident points have no point coupling to correct.
@@ -331,28 +317,14 @@ pub fn sparse_field_correction(
                     continue;
                 }
                 let near = r < reach.near * (ri + rj);
-                let g = if near {
-                    field_compliance(fi, fj, 0.5 * bi.min(*bj))
-                } else {
-                    1.0 / (ci[0] - cj[0]).hypot(ci[1] - cj[1])
-                };
-                if (g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite() {
-                    row.push((i.min(j), i.max(j), factor * (g - 1.0 / r), near));
+                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
+                    row.push((i.min(j), i.max(j), c, near));
                 }
             }
             row
         })
         .collect();
-    let pairs: Vec<_> = rows.into_iter().flatten().collect();
-    let field_pairs = pairs.iter().filter(|p| p.3).count();
-    let centroid_pairs = pairs.len() - field_pairs;
-    let correction =
-        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
-    Ok(FieldCorrection {
-        correction,
-        field_pairs,
-        centroid_pairs,
-    })
+    field_correction_of(n, rows)
 }
 
 /// Each asperity's unit field at its depth placed at its summit, with the
@@ -386,4 +358,41 @@ fn placed_fields<'l>(
             Ok((field, centroid, extent, bin))
         })
         .collect()
+}
+
+/// The correction `f (g − 1/r)` of one pair whose summits lie `r` apart:
+/// `g` the binned double sum of their fields when `near`, else `1/` the
+/// distance of their centroids; `None` where `g` is the point kernel to
+/// [`NEGLIGIBLE`] (or not finite).
+fn pair_correction(
+    a: &PlacedField,
+    b: &PlacedField,
+    r: f64,
+    near: bool,
+    factor: f64,
+) -> Option<f64> {
+    let g = if near {
+        field_compliance(&a.0, &b.0, 0.5 * a.3.min(b.3))
+    } else {
+        1.0 / (a.1[0] - b.1[0]).hypot(a.1[1] - b.1[1])
+    };
+    ((g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite()).then(|| factor * (g - 1.0 / r))
+}
+
+/// The correction of `n` asperities from its pairs `(i, j, C_ij, near)`,
+/// with the count of each kind.
+fn field_correction_of(
+    n: usize,
+    rows: Vec<Vec<(usize, usize, f64, bool)>>,
+) -> Result<FieldCorrection, FidelityError> {
+    let pairs: Vec<_> = rows.into_iter().flatten().collect();
+    let field_pairs = pairs.iter().filter(|p| p.3).count();
+    let centroid_pairs = pairs.len() - field_pairs;
+    let correction =
+        PairCorrection::new(n, pairs.into_iter().map(|(i, j, c, _)| (i, j, c)).collect())?;
+    Ok(FieldCorrection {
+        correction,
+        field_pairs,
+        centroid_pairs,
+    })
 }
