@@ -13,7 +13,7 @@ use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, calibrated_texture_road_set_with, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
-use crate::fidelity::rolling_fields::FieldRolling;
+use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
 use crate::fidelity::{CalibratedLaw, Fidelity};
 
 /// Where the rolled road came from.
@@ -159,17 +159,7 @@ pub(crate) fn rolling_on_road(
                 return roll_road(scenario, &road, summary, material, spec, options, what);
             }
             Fidelity::CalibratedFields => {
-                let (road, summary) = calibrated_road(scenario, spec, options, texture, true)?;
-                let coupling = FieldRolling::with_defaults(&material)?;
-                return roll_road_with(
-                    scenario,
-                    (&road, Some(&coupling)),
-                    summary,
-                    material,
-                    spec,
-                    options,
-                    what,
-                );
+                return Ok(roll_with_fields(scenario, spec, options, texture, what)?.0);
             }
             _ => {}
         }
@@ -313,7 +303,7 @@ pub(crate) fn rolling_on_road(
 
 /// The scenario's texture road with each selectable cap's calibrated law,
 /// with its fields when `fields`, and its summary.
-pub(super) fn calibrated_road(
+fn calibrated_road(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
@@ -343,6 +333,31 @@ pub(super) fn calibrated_road(
     )?;
     let road = rolling::Road::new(set).with_summit_radii(radii)?;
     Ok((road, RoadSummary::Texture(summary)))
+}
+
+/// The scenario's road with calibrated laws and their fields, rolled with
+/// each step coupled through the fields; the road and the coupling's
+/// counts come back beside the result (for recounts of its sensors).
+pub(super) fn roll_with_fields(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    texture: &TextureSpec,
+    what: What,
+) -> Result<(Rolled, rolling::Road<CalibratedLaw>, FieldRollingStats), ScenarioError> {
+    let material = scenario.material()?;
+    let (road, summary) = calibrated_road(scenario, spec, options, texture, true)?;
+    let coupling = FieldRolling::with_defaults(&material)?;
+    let rolled = roll_road_with(
+        scenario,
+        (&road, Some(&coupling)),
+        summary,
+        material,
+        spec,
+        options,
+        what,
+    )?;
+    Ok((rolled, road, coupling.stats()))
 }
 
 fn run_on<L: ContactLaw + Sync>(

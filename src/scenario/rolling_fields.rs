@@ -4,10 +4,10 @@
 
 use tyreroad_rolling as rolling;
 
-use super::rolling::{Rolled, RollingRun, What, calibrated_road, roll_road_with};
+use super::rolling::{Rolled, RollingRun, What, roll_with_fields};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::CalibratedLaw;
-use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
+use crate::fidelity::rolling_fields::FieldRollingStats;
 
 /// A whole `[model] fidelity = "calibrated_fields"` run of the scenario's
 /// `[rolling]` on its `[texture]`, as [`Scenario::run`] makes it, with the
@@ -25,19 +25,8 @@ pub(crate) fn run_calibrated_fields(
         .texture
         .as_ref()
         .ok_or_else(|| ScenarioError::Invalid("the scenario has no [texture] section".into()))?;
-    let material = scenario.material()?;
-    let (road, summary) = calibrated_road(scenario, spec, options, texture, true)?;
-    let coupling = FieldRolling::with_defaults(&material)?;
-    match roll_road_with(
-        scenario,
-        (&road, Some(&coupling)),
-        summary,
-        material,
-        spec,
-        options,
-        What::Whole,
-    )? {
-        Rolled::Run(run) => Ok((*run, road, coupling.stats())),
+    match roll_with_fields(scenario, spec, options, texture, What::Whole)? {
+        (Rolled::Run(run), road, stats) => Ok((*run, road, stats)),
         _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
     }
 }
