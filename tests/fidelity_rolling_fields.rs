@@ -14,8 +14,8 @@ use tyreroad::fidelity::rolling_fields::{FieldRolling, SensorAccounting, sensor_
 use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator};
 use tyreroad::multipoint::{Control, Problem, SolverOptions};
 use tyreroad::rolling::{
-    Road, RollingConfig, RollingControl, RollingResult, RunOptions, Sensor, StepStatus, Tread,
-    roll, roll_coupled, step_problem,
+    ContactSlope, Road, RollingConfig, RollingControl, RollingResult, RunOptions, Sensor,
+    StepStatus, Tread, roll, roll_coupled, step_problem,
 };
 use tyreroad::scenario::{RunOptions as ScenarioRunOptions, Scenario, ScenarioResult};
 use tyreroad::shared::Par;
@@ -73,6 +73,9 @@ fn config() -> RollingConfig {
         10.0,
         RollingControl::Load(LOAD),
     );
+    // The static rung this test holds each step against has no deformed
+    // tread's slope (the neighbours' tilt; tests/rolling_deformed_slope.rs).
+    c.contact_slope = ContactSlope::Profile;
     c.sensors = vec![
         Sensor {
             name: "south".into(),
@@ -154,7 +157,13 @@ fn field_coupled_ridges_roll_closer_to_the_bem_than_point_coupled_ones() -> Test
     );
     // The run's own sensors are its fields' (the default accounting), as
     // recounted from its records.
-    let recount = sensor_forces(&fields, &road, &config, SensorAccounting::Fields)?;
+    let recount = sensor_forces(
+        &fields,
+        &road,
+        material(),
+        &config,
+        SensorAccounting::Fields,
+    )?;
     for (k, s) in fields.steps.iter().enumerate() {
         for (j, f) in s.sensor_forces.iter().enumerate() {
             assert!(
@@ -294,7 +303,7 @@ fn a_long_chipping_s_field_puts_its_load_where_the_bem_does() -> TestResult {
     let road = Road::new(cal.set).with_summit_radii(radii)?;
     let coupling = FieldRolling::with_defaults(&m)?;
     let run = roll_coupled(&road, m, &config, &RunOptions::default(), &coupling)?;
-    let discs = sensor_forces(&run, &road, &config, SensorAccounting::Discs)?;
+    let discs = sensor_forces(&run, &road, material(), &config, SensorAccounting::Discs)?;
     let bem = roll_bem(
         &texture_field(&map)?,
         m,

@@ -541,6 +541,8 @@ mod caps_tests;
 #[cfg(test)]
 mod refine_tests;
 #[cfg(test)]
+mod slope_tests;
+#[cfg(test)]
 mod split_tests;
 #[cfg(test)]
 mod tests;

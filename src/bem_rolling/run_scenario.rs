@@ -205,8 +205,14 @@ pub fn run_scenario_comparison_against(
     let field_rung = match field_road {
         Some((road, stats)) => {
             let recount = |accounting| -> Result<_, BemRollingError> {
-                let forces = sensor_forces(&multipoint.result, &road, config, accounting)
-                    .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+                let forces = sensor_forces(
+                    &multipoint.result,
+                    &road,
+                    scenario.material()?,
+                    config,
+                    accounting,
+                )
+                .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
                 let comparison = recounted(&multipoint, &forces, &bem, reference_force, segment)?;
                 Ok((forces, comparison))
             };

@@ -28,10 +28,8 @@ use std::path::Path;
 
 use crate::bem::{BemOptions, Control as BemControl, Solver};
 use crate::fidelity::{CalibrationOptions, Calibrator, Fidelity, rolling::calibrate_rolling_road};
-use crate::multipoint::{Control, SolverOptions, solve};
-use crate::rolling::{
-    ContactLaw, Road, RollingConfig, RollingControl, contact_point, step_problem,
-};
+use crate::multipoint::Control;
+use crate::rolling::{ContactLaw, Road, RollingConfig, RollingControl, settled_step};
 use crate::scenario::Scenario;
 use crate::shared::{Field, Grid, Material, Par};
 use crate::texture::{HeightMap, UNLABELLED};
@@ -281,36 +279,35 @@ fn split_road<L: ContactLaw + Sync>(
                 b.top = b.top.max(h);
             }
         }
-        let (ids, problem) = step_problem(road, ctx.material, config, xc)
-            .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?
-            .ok_or_else(|| {
-                BemRollingError::InvalidInput(format!("asperity split: no asperity at x = {xc} m"))
-            })?;
         let control = match config.control {
             RollingControl::Load(load) => Control::Load(load),
             RollingControl::Approach(d) => Control::Approach(d),
             RollingControl::TreadHeight(h) => Control::Approach(top - h),
         };
-        let options = SolverOptions {
-            tolerance: config.tolerance,
-            max_iterations: config.max_iterations,
-            par: Par::Seq,
-            ..SolverOptions::default()
-        };
+        // Each solve as the run's step solves it (the deformed tread's
+        // contact points settled with its forces).
         let solve_at = |control| {
-            solve(&problem, control, &options).map_err(|source| {
-                BemRollingError::InvalidInput(format!("asperity split at x = {xc} m: {source}"))
-            })
+            settled_step(road, ctx.material, config, xc, control)
+                .map_err(|e| {
+                    BemRollingError::InvalidInput(format!("asperity split at x = {xc} m: {e}"))
+                })?
+                .ok_or_else(|| {
+                    BemRollingError::InvalidInput(format!(
+                        "asperity split: no asperity at x = {xc} m"
+                    ))
+                })
         };
         let own = solve_at(control)?;
         let at_bem = solve_at(Control::Approach(bem_approach - (z_max - top)))?;
-        let shares = |s: &crate::multipoint::Solution| -> Vec<f64> {
-            s.local_contacts(&problem)
+        let ids = own.ids.clone();
+        let shares = |s: &crate::rolling::SettledStep<'_, _>| -> Vec<f64> {
+            s.solution
+                .local_contacts(&s.problem)
                 .iter()
-                .zip(&ids)
-                .map(|(c, &id)| {
+                .zip(&s.contact_points)
+                .map(|(c, &centre)| {
                     if c.force > 0.0 {
-                        sensor.share(contact_point(road, config, xc, id), c)
+                        sensor.share(centre, c)
                     } else {
                         0.0
                     }
@@ -328,10 +325,10 @@ fn split_road<L: ContactLaw + Sync>(
             if bem_sensor <= REPORTED && own_shares[a] <= REPORTED && bem_shares[a] <= REPORTED {
                 continue;
             }
-            let gap_model = problem.gaps()[a];
+            let gap_model = own.problem.gaps()[a];
             let gap_exact = b.map_or(f64::INFINITY, |b| top - b.top);
-            let interaction = own.approach - gap_model - own.depths[a];
-            let depth_exact = own.approach - gap_exact - interaction;
+            let interaction = own.solution.approach - gap_model - own.solution.depths[a];
+            let depth_exact = own.solution.approach - gap_exact - interaction;
             let tilted_force = if depth_exact > 0.0 {
                 alone(
                     ctx,
@@ -344,13 +341,13 @@ fn split_road<L: ContactLaw + Sync>(
             } else {
                 0.0
             };
-            let local_sensor = if own.forces[a] > 0.0 {
+            let local_sensor = if own.solution.forces[a] > 0.0 {
                 alone(
                     ctx,
                     &surface,
                     w,
                     basin as u32,
-                    BemControl::Load(own.forces[a]),
+                    BemControl::Load(own.solution.forces[a]),
                 )?
                 .1
             } else {
@@ -363,11 +360,11 @@ fn split_road<L: ContactLaw + Sync>(
                 radius: road.summit_radius(id),
                 bem_force: b.map_or(0.0, |b| b.force),
                 bem_sensor,
-                model_force: own.forces[a],
+                model_force: own.solution.forces[a],
                 model_sensor: own_shares[a],
-                model_force_at_bem_approach: at_bem.forces[a],
+                model_force_at_bem_approach: at_bem.solution.forces[a],
                 model_sensor_at_bem_approach: bem_shares[a],
-                model_depth: own.depths[a],
+                model_depth: own.solution.depths[a],
                 gap_model,
                 gap_exact,
                 tilted_force,
@@ -400,12 +397,12 @@ fn split_road<L: ContactLaw + Sync>(
         out.push(StepSplit {
             position: xc,
             bem_approach,
-            model_approach: own.approach + (z_max - top),
+            model_approach: own.solution.approach + (z_max - top),
             bem_sensor: per.values().map(|b| b.sensor).sum::<f64>() + unlabelled,
             bem_sensor_unlabelled: unlabelled,
             model_sensor: own_shares.iter().sum(),
             model_sensor_at_bem_approach: bem_shares.iter().sum(),
-            model_total_at_bem_approach: at_bem.total_force(),
+            model_total_at_bem_approach: at_bem.solution.total_force(),
             asperities,
         });
     }

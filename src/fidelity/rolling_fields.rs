@@ -41,7 +41,7 @@ use super::{CalibratedLaw, FidelityError};
 use crate::multipoint::PairCorrection;
 use crate::rolling::{
     ContactLaw, CouplingState, Road, RollingConfig, RollingResult, Spread, StepCoupling,
-    StepStatus, contact_point,
+    StepStatus, contact_points,
 };
 
 /// How a coupled run's sensors count each contact's force.
@@ -249,7 +249,9 @@ pub fn field_spread(law: &CalibratedLaw, depth: f64) -> Option<Spread> {
 /// A finished run's sensor forces (one row per sensor, one value per step;
 /// NaN at failed steps) recounted under `accounting`: each recorded
 /// contact's depth recovered from its force by its law, its spread or disc
-/// placed at its contact point at that step.
+/// placed at its contact point at that step (under the deformed tread when
+/// the run's [`RollingConfig::contact_slope`] says so, from the step's
+/// recorded forces, [`crate::rolling::contact_points`]).
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] when a record names an asperity the
@@ -258,6 +260,7 @@ pub fn field_spread(law: &CalibratedLaw, depth: f64) -> Option<Spread> {
 pub fn sensor_forces(
     result: &RollingResult,
     road: &Road<CalibratedLaw>,
+    material: crate::shared::Material,
     config: &RollingConfig,
     accounting: SensorAccounting,
 ) -> Result<Vec<Vec<f64>>, FidelityError> {
@@ -269,34 +272,55 @@ pub fn sensor_forces(
             }
             continue;
         }
-        for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let Some(local) = road.local_id(id) else {
-                return Err(FidelityError::invalid(
+        let mut locals = Vec::with_capacity(step.contact_ids.len());
+        for &id in &step.contact_ids {
+            locals.push(road.local_id(id).ok_or_else(|| {
+                FidelityError::invalid(
                     "rolling record",
                     format!("asperity {id} at step {}", step.index),
                     "an asperity of the road",
-                ));
-            };
+                )
+            })?);
+        }
+        let depths: Vec<f64> = locals
+            .iter()
+            .zip(&step.contact_forces)
+            .map(|(&local, &force)| road.laws()[local].depth_for(force))
+            .collect();
+        let contacts: Vec<_> = locals
+            .iter()
+            .zip(&step.contact_forces)
+            .zip(&depths)
+            .map(|((&local, &force), &depth)| road.laws()[local].local_contact(force, depth))
+            .collect();
+        let radii: Vec<f64> = contacts.iter().map(|c| c.radius.max(0.0)).collect();
+        let centres = contact_points(
+            road,
+            material,
+            config,
+            step.position,
+            &locals,
+            &step.contact_forces,
+            &radii,
+        );
+        for (a, (&local, &force)) in locals.iter().zip(&step.contact_forces).enumerate() {
             let law = &road.laws()[local];
-            let depth = law.depth_for(force);
-            let centre = contact_point(road, config, step.position, local);
             match accounting {
                 SensorAccounting::Fields => {
-                    let spread = field_spread(law, depth).ok_or_else(|| {
+                    let spread = field_spread(law, depths[a]).ok_or_else(|| {
                         FidelityError::invalid(
                             "asperity law",
-                            format!("asperity {id} without a pressure field"),
+                            format!("asperity {} without a pressure field", step.contact_ids[a]),
                             "a table calibrated with fields (Calibrator::with_fields)",
                         )
                     })?;
                     for (row, s) in out.iter_mut().zip(&config.sensors) {
-                        row[k] += s.share_spread(centre, force, &spread);
+                        row[k] += s.share_spread(centres[a], force, &spread);
                     }
                 }
                 SensorAccounting::Discs => {
-                    let contact = law.local_contact(force, depth);
                     for (row, s) in out.iter_mut().zip(&config.sensors) {
-                        row[k] += s.share(centre, &contact);
+                        row[k] += s.share(centres[a], &contacts[a]);
                     }
                 }
             }

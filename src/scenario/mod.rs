@@ -50,7 +50,9 @@ pub use history::{
 pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;
-pub use rolling_spec::{ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec};
+pub use rolling_spec::{
+    ContactSlopeSpec, ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec,
+};
 pub use rolling_stream::StreamedRun;
 pub use spec::{
     AsperitySpec, DynLaw, MaterialSpec, ModelSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec,

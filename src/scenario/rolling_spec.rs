@@ -40,6 +40,10 @@ pub struct RollingSpec {
     pub checkpoint: bool,
     /// Solver tolerance (default 1e-12).
     pub tolerance: Option<f64>,
+    /// Where the tread touches each cap: `"profile"` (default: the
+    /// undeformed profile's slope) or `"deformed"` (the profile's slope
+    /// plus the other contacts' displacement slope; elastic treads only).
+    pub contact_slope: Option<ContactSlopeSpec>,
     /// Welch segment length in samples (default: half the signal).
     pub segment: Option<usize>,
     /// A synthetic road of random spheres instead of the scenario's
@@ -49,6 +53,16 @@ pub struct RollingSpec {
 
 fn yes() -> bool {
     true
+}
+
+/// `[rolling] contact_slope`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactSlopeSpec {
+    /// [`rolling::ContactSlope::Deformed`].
+    Deformed,
+    /// [`rolling::ContactSlope::Profile`].
+    Profile,
 }
 
 /// `[rolling.tread]`
@@ -187,6 +201,10 @@ impl RollingSpec {
         if let Some(t) = self.tolerance {
             config.tolerance = t;
         }
+        config.contact_slope = match self.contact_slope {
+            Some(ContactSlopeSpec::Profile) | None => rolling::ContactSlope::Profile,
+            Some(ContactSlopeSpec::Deformed) => rolling::ContactSlope::Deformed,
+        };
         config.sensors = self
             .sensors
             .iter()
@@ -249,5 +267,34 @@ mod tests {
         );
         let f: Result<File, _> = toml::from_str(&double);
         assert!(f.is_ok_and(|f| f.rolling.config().is_err()));
+    }
+
+    #[test]
+    fn contact_slope_defaults_to_the_profile_and_names_its_values() {
+        let with =
+            |v: &str| FIXTURE.replace("[rolling]\n", &format!("[rolling]\ncontact_slope = {v}\n"));
+        let slope = |text: &str| -> Result<rolling::ContactSlope, Box<dyn std::error::Error>> {
+            Ok(Scenario::parse(text, "t")?.rolling_config()?.contact_slope)
+        };
+        assert_eq!(slope(FIXTURE).ok(), Some(rolling::ContactSlope::Profile));
+        assert_eq!(
+            slope(&with("\"deformed\"")).ok(),
+            Some(rolling::ContactSlope::Deformed)
+        );
+        assert_eq!(
+            slope(&with("\"profile\"")).ok(),
+            Some(rolling::ContactSlope::Profile)
+        );
+        let e = Scenario::parse(&with("\"flat\""), "t").expect_err("unknown value");
+        assert!(e.to_string().contains("deformed"), "{e}");
+        // A viscoelastic tread has no deformed slope: asking for it is refused.
+        let visco = format!(
+            "{}\n[material.viscoelastic]\nlong_term = \"6.54 MPa\"\n[[material.viscoelastic.branch]]\nmodulus = \"10 MPa\"\nrelaxation_time = \"1 ms\"\n",
+            with("\"deformed\"")
+        );
+        let e = Scenario::parse(&visco, "t")
+            .and_then(|s| s.rolling_config())
+            .expect_err("deformed on a viscoelastic tread");
+        assert!(e.to_string().contains("contact_slope"), "{e}");
     }
 }

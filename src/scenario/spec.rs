@@ -423,6 +423,18 @@ impl Scenario {
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [rolling] section".into()))?;
         let mut config = spec.config()?;
+        if self.material.viscoelastic.is_some() {
+            // The hereditary displacement's slope is not modelled.
+            if spec.contact_slope == Some(super::rolling_spec::ContactSlopeSpec::Deformed) {
+                return Err(ScenarioError::Invalid(
+                    "[rolling] contact_slope = \"deformed\" is for an elastic tread; \
+                     viscoelastic rolling places each contact under the undeformed \
+                     profile (\"profile\")"
+                        .into(),
+                ));
+            }
+            config.contact_slope = tyreroad_rolling::ContactSlope::Profile;
+        }
         if let Some(t) = self.solver.tolerance {
             config.tolerance = t;
         }

@@ -117,6 +117,11 @@ pub fn input_hash<L: ContactLaw>(
         h.f(v);
     }
     h.u(config.max_iterations as u64);
+    // Profile runs (the default) keep the keys they had before the option
+    // existed.
+    if config.contact_slope == crate::ContactSlope::Deformed {
+        h.u(7);
+    }
     let (tag, v) = match config.control {
         RollingControl::Load(w) => (1, w),
         RollingControl::Approach(d) => (2, d),

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::{RollingError, Sensor, Tread};
+use crate::{ContactSlope, RollingError, Sensor, Tread};
 
 /// Most steps a path may have ([`RollingConfig::validate`]).
 pub const MAX_STEPS: usize = 1_000_000;
@@ -54,6 +54,9 @@ pub struct RollingConfig {
     pub tolerance: f64,
     /// Newton iterations allowed per step (and load step).
     pub max_iterations: usize,
+    /// Where the tread touches each cap: under the deformed tread (the
+    /// default) or under its undeformed profile ([`ContactSlope`]).
+    pub contact_slope: ContactSlope,
 }
 
 impl RollingConfig {
@@ -77,6 +80,7 @@ impl RollingConfig {
             sensors: Vec::new(),
             tolerance: 1e-12,
             max_iterations: 60,
+            contact_slope: ContactSlope::default(),
         }
     }
 

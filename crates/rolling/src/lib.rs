@@ -123,6 +123,7 @@ mod record;
 mod road;
 mod run;
 mod sensor;
+mod slope;
 mod spectrum;
 mod step;
 mod synth;
@@ -140,11 +141,14 @@ pub use run::{
     Progress, ProgressFn, RunOptions, roll, roll_coupled, roll_range, roll_range_coupled,
 };
 pub use sensor::{SHARE_RINGS, SHARE_SPOKES, Sensor};
+pub use slope::{ContactSlope, deformation_slopes};
 pub use spectrum::{
     Band, BandLevel, NOMINAL_CENTRES, Psd, band_levels, bands_below, default_segment_len,
     effective_segment_len, resolved_from, third_octave, welch,
 };
-pub use step::{StepProblem, contact_point, step_problem};
+pub use step::{
+    SettledStep, StepProblem, contact_point, contact_points, settled_step, step_problem,
+};
 pub use synth::SyntheticRoad;
 pub use synth_window::{SummitStream, SyntheticWindows};
 pub use tread::Tread;

@@ -9,7 +9,10 @@ use tyreroad_multipoint::{
 };
 
 use crate::coupling::{CouplingState, KeptCorrection, StepCoupling};
-use crate::{Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread};
+use crate::{
+    ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
+    deformation_slopes,
+};
 
 /// The selected asperity ids and the multipoint problem on them.
 pub type StepProblem<'r, L> = (Vec<usize>, Problem<&'r L>);
@@ -55,13 +58,15 @@ pub(crate) fn build<'r, L: ContactLaw>(
     xc: f64,
     ids: &[usize],
 ) -> Result<Problem<&'r L>, RollingError> {
-    build_at(road, material, config, xc, ids, false)
+    build_at(road, material, config, xc, ids, false, None)
 }
 
 /// [`build`], with the asperities placed at their contact points instead
 /// of their summits when `at_contact_points` (a coupled step: its
 /// correction places each asperity's pressure where its contact is, and
-/// the point kernel it corrects must start from the same place).
+/// the point kernel it corrects must start from the same place), and the
+/// tread tilted further at each asperity by `slopes` (the deformation's,
+/// [`crate::deformation_slopes`]; `None`: the undeformed profile).
 pub(crate) fn build_at<'r, L: ContactLaw>(
     road: &'r Road<L>,
     material: Material,
@@ -69,31 +74,29 @@ pub(crate) fn build_at<'r, L: ContactLaw>(
     xc: f64,
     ids: &[usize],
     at_contact_points: bool,
+    slopes: Option<&[[f64; 2]]>,
 ) -> Result<Problem<&'r L>, RollingError> {
     let (pos, z, laws, top) = (road.positions(), road.heights(), road.laws(), road.top());
     let yc = config.lateral;
-    let positions = ids
-        .iter()
-        .map(|&i| {
-            if at_contact_points {
-                contact_point(road, config, xc, i)
-            } else {
-                pos[i]
-            }
-        })
-        .collect();
     // The gap at each cap's contact point (the summit's when the road has
     // no summit radii): under a sloping tread it lies off the summit.
-    let gaps = ids
-        .iter()
-        .map(|&i| {
-            top - z[i]
-                + config
-                    .tread
-                    .contact_gap(pos[i][0] - xc, pos[i][1] - yc, road.summit_radius(i))
-                    .map_or(f64::INFINITY, |(s, _)| s)
-        })
-        .collect();
+    let (mut positions, mut gaps) = (Vec::with_capacity(ids.len()), Vec::with_capacity(ids.len()));
+    for (a, &i) in ids.iter().enumerate() {
+        let extra = slopes.map_or([0.0, 0.0], |s| s[a]);
+        let touch = config.tread.contact_gap_sloped(
+            pos[i][0] - xc,
+            pos[i][1] - yc,
+            road.summit_radius(i),
+            extra,
+        );
+        let offset = touch.map_or([0.0, 0.0], |(_, d)| d);
+        positions.push(if at_contact_points {
+            [pos[i][0] + offset[0], pos[i][1] + offset[1]]
+        } else {
+            pos[i]
+        });
+        gaps.push(top - z[i] + touch.map_or(f64::INFINITY, |(s, _)| s));
+    }
     let laws = ids.iter().map(|&i| &laws[i]).collect();
     Problem::new(positions, gaps, laws, material).map_err(|source| RollingError::Solve {
         position: xc,
@@ -101,16 +104,146 @@ pub(crate) fn build_at<'r, L: ContactLaw>(
     })
 }
 
+/// One footprint position solved cold as an uncoupled rolling step solves
+/// it (the deformed tread's slopes settled with the forces when the
+/// configuration asks for them): the selected ids, the problem the step
+/// settled on, its solution and each asperity's contact point. For
+/// diagnostics that re-solve a run's step under another control.
+#[derive(Debug)]
+pub struct SettledStep<'r, L> {
+    /// Road-local ids, in the problem's order.
+    pub ids: Vec<usize>,
+    /// The step's problem (gaps at the settled contact points).
+    pub problem: Problem<&'r L>,
+    /// Its solution.
+    pub solution: Solution,
+    /// Each asperity's contact point (m), problem order.
+    pub contact_points: Vec<[f64; 2]>,
+}
+
+/// [`SettledStep`] at footprint centre `xc` under `control`; `None` when
+/// nothing lies under the footprint.
+///
+/// # Errors
+/// [`RollingError::Solve`] when the solve or the slopes' iteration fails.
+pub fn settled_step<'r, L: ContactLaw + Sync>(
+    road: &'r Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    xc: f64,
+    control: Control,
+) -> Result<Option<SettledStep<'r, L>>, RollingError> {
+    let mut ids = Vec::new();
+    select(road, config, xc, &mut ids);
+    if ids.is_empty() {
+        return Ok(None);
+    }
+    let mut slopes =
+        (config.contact_slope == ContactSlope::Deformed).then(|| vec![[0.0, 0.0]; ids.len()]);
+    let mut problem = build_at(road, material, config, xc, &ids, false, slopes.as_deref())?;
+    let options = SolverOptions {
+        tolerance: config.tolerance,
+        max_iterations: config.max_iterations,
+        par: Par::Seq,
+        ..SolverOptions::default()
+    };
+    let solution = settle_slopes(
+        (road, material, config, xc),
+        &ids,
+        (&mut problem, &mut slopes),
+        (control, &options),
+        None,
+    )?
+    .map_err(|source| RollingError::Solve {
+        position: xc,
+        source,
+    })?;
+    let contact_points = ids
+        .iter()
+        .enumerate()
+        .map(|(a, &i)| {
+            let extra = slopes.as_ref().map_or([0.0, 0.0], |s| s[a]);
+            sloped_contact_point(road, config, xc, i, extra)
+        })
+        .collect();
+    Ok(Some(SettledStep {
+        ids,
+        problem,
+        solution,
+        contact_points,
+    }))
+}
+
 /// Where asperity `id`'s contact patch is centred under the footprint at
 /// `xc`: its summit shifted towards the tread's lowest point
 /// ([`crate::Tread::contact_gap`]); the summit without radii.
 pub fn contact_point<L>(road: &Road<L>, config: &RollingConfig, xc: f64, id: usize) -> [f64; 2] {
+    sloped_contact_point(road, config, xc, id, [0.0, 0.0])
+}
+
+fn sloped_contact_point<L>(
+    road: &Road<L>,
+    config: &RollingConfig,
+    xc: f64,
+    id: usize,
+    extra: [f64; 2],
+) -> [f64; 2] {
     let p = road.positions()[id];
     let (xi, eta) = (p[0] - xc, p[1] - config.lateral);
-    match config.tread.contact_gap(xi, eta, road.summit_radius(id)) {
+    match config
+        .tread
+        .contact_gap_sloped(xi, eta, road.summit_radius(id), extra)
+    {
         Some((_, [dx, dy])) => [p[0] + dx, p[1] + dy],
         None => p,
     }
+}
+
+/// The contact points of a step's loaded asperities (`ids` road-local,
+/// `forces` and contact `radii` in the same order) as the step placed
+/// them: under the deformed tread ([`crate::ContactSlope::Deformed`], the
+/// displacement slope of the other forces added to the profile's) or the
+/// profile's ([`contact_point`]). For recounting a finished step's
+/// sensors from its forces.
+pub fn contact_points<L>(
+    road: &Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    xc: f64,
+    ids: &[usize],
+    forces: &[f64],
+    radii: &[f64],
+) -> Vec<[f64; 2]> {
+    let slopes = deformed_slopes(road, material, config, ids, forces, radii);
+    ids.iter()
+        .enumerate()
+        .map(|(a, &i)| {
+            let extra = slopes.as_ref().map_or([0.0, 0.0], |s| s[a]);
+            sloped_contact_point(road, config, xc, i, extra)
+        })
+        .collect()
+}
+
+/// The deformation's slopes at the summits of `ids` ([`crate::deformation_slopes`]),
+/// or `None` when the run places contacts under the undeformed profile.
+pub(crate) fn deformed_slopes<L>(
+    road: &Road<L>,
+    material: Material,
+    config: &RollingConfig,
+    ids: &[usize],
+    forces: &[f64],
+    radii: &[f64],
+) -> Option<Vec<[f64; 2]>> {
+    if config.contact_slope != ContactSlope::Deformed {
+        return None;
+    }
+    let summits: Vec<[f64; 2]> = ids.iter().map(|&i| road.positions()[i]).collect();
+    Some(deformation_slopes(
+        &summits,
+        forces,
+        radii,
+        material.boussinesq_factor(),
+    ))
 }
 
 pub(crate) fn imposed<L>(road: &Road<L>, control: RollingControl) -> Control {
@@ -147,6 +280,9 @@ pub(crate) struct Scratch {
     pub(crate) ids: Vec<usize>,
     pub(crate) index: Vec<usize>,
     pub(crate) correction: KeptCorrection,
+    /// The last settled deformation slope of each asperity (road-local id;
+    /// zero where none): the next step's first guess.
+    pub(crate) slopes: Vec<[f64; 2]>,
 }
 
 impl Scratch {
@@ -156,6 +292,7 @@ impl Scratch {
             ids: Vec::new(),
             index: vec![usize::MAX; len],
             correction: Vec::new(),
+            slopes: vec![[0.0, 0.0]; len],
         }
     }
 }
@@ -204,7 +341,19 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         };
     }
     let ids = std::mem::take(&mut scratch.ids);
-    let problem = build_at(road, material, config, xc, &ids, coupling.is_some())?;
+    // Under the deformed tread the slopes are the step's unknowns too: start
+    // from each asperity's last ones.
+    let mut slopes: Option<Vec<[f64; 2]>> = (config.contact_slope == ContactSlope::Deformed)
+        .then(|| ids.iter().map(|&i| scratch.slopes[i]).collect());
+    let mut problem = build_at(
+        road,
+        material,
+        config,
+        xc,
+        &ids,
+        coupling.is_some(),
+        slopes.as_deref(),
+    )?;
     // The previous step's correction on the pairs still selected, in this
     // step's indices: the warm start of the coupling's fixed point.
     let warm_correction = match coupling {
@@ -268,16 +417,22 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         return Ok(failed_step(config, k, ids.len(), 0, 1.0));
     }
     let solved = match coupling {
-        None => solve_from(&problem, control, &options, initial.as_ref()),
+        None => settle_slopes(
+            (road, material, config, xc),
+            &ids,
+            (&mut problem, &mut slopes),
+            (control, &options),
+            initial.as_ref(),
+        )?,
         Some(coupling) => {
             let fixed = fixed_point(
-                &problem,
+                (&mut problem, &mut slopes),
                 &ids,
                 (control, &options),
                 initial.as_ref(),
                 &warm_correction,
                 coupling,
-                (road, xc),
+                (road, material, config, xc),
             )?;
             match fixed {
                 Ok((solution, correction)) => {
@@ -329,7 +484,8 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             contact_forces.push(p);
             area += contacts[a].area();
             // The patch is centred on the contact point, not the summit.
-            let centre = contact_point(road, config, xc, i);
+            let extra = slopes.as_ref().map_or([0.0, 0.0], |s| s[a]);
+            let centre = sloped_contact_point(road, config, xc, i, extra);
             let spread = coupling.and_then(|c| c.spread(problem.laws()[a], solution.depths[a]));
             for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
                 *f += match &spread {
@@ -358,6 +514,11 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         contact_ids,
         contact_forces,
     };
+    if let Some(slopes) = &slopes {
+        for (&i, &g) in ids.iter().zip(slopes) {
+            scratch.slopes[i] = g;
+        }
+    }
     *carry = Some(Carry {
         ids,
         forces: solution.forces,
@@ -372,14 +533,14 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
 /// point still moving after the coupling's rounds, its residual the last
 /// change over the scale). The outer error is the run's.
 #[allow(clippy::too_many_arguments)]
-fn fixed_point<L: ContactLaw + Sync>(
-    problem: &Problem<&L>,
+fn fixed_point<'r, L: ContactLaw + Sync>(
+    (problem, slopes): (&mut Problem<&'r L>, &mut Option<Vec<[f64; 2]>>),
     ids: &[usize],
     (control, options): (Control, &SolverOptions),
     initial: Option<&Solution>,
     warm: &PairCorrection,
     coupling: &dyn StepCoupling<L>,
-    (road, xc): (&Road<L>, f64),
+    (road, material, config, xc): (&'r Road<L>, Material, &RollingConfig, f64),
 ) -> Result<Result<(Solution, PairCorrection), SolveError>, RollingError> {
     let mut iterations = 0;
     let mut s = match solve_corrected(problem, control, options, initial, warm) {
@@ -396,19 +557,31 @@ fn fixed_point<L: ContactLaw + Sync>(
         coupling.settled(0);
         return Ok(Ok((s, PairCorrection::default())));
     }
-    let offsets: Vec<[f64; 2]> = ids
-        .iter()
-        .zip(problem.positions())
-        .map(|(&i, p)| {
-            let summit = road.positions()[i];
-            [p[0] - summit[0], p[1] - summit[1]]
-        })
-        .collect();
+    let offsets_of = |problem: &Problem<&L>| -> Vec<[f64; 2]> {
+        ids.iter()
+            .zip(problem.positions())
+            .map(|(&i, p)| {
+                let summit = road.positions()[i];
+                [p[0] - summit[0], p[1] - summit[1]]
+            })
+            .collect()
+    };
+    let mut offsets = offsets_of(problem);
     let mut change = f64::INFINITY;
     let mut previous = f64::INFINITY;
     let mut used = warm.clone();
     let mut weight = 1.0;
     for round in 1..=coupling.max_rounds() {
+        // The deformed tread's slopes follow the last round's forces; the
+        // contact points, gaps and kernel move with them.
+        if let Some(current) = slopes.as_mut() {
+            let radii = contact_radii(&s, problem);
+            *current = deformed_slopes(road, material, config, ids, &s.forces, &radii)
+                .unwrap_or_else(|| current.clone());
+            *problem = build_at(road, material, config, xc, ids, true, Some(current))?;
+            offsets = offsets_of(problem);
+            s = consistent_start(problem, material, &s, &used);
+        }
         let state = CouplingState {
             ids,
             problem,
@@ -450,6 +623,113 @@ fn fixed_point<L: ContactLaw + Sync>(
             s.iterations = iterations;
             return Ok(Ok((s, used)));
         }
+    }
+    Ok(Err(SolveError::NotConverged {
+        iterations,
+        load_steps: 0,
+        residual: change,
+    }))
+}
+
+/// Rounds of a step's slope iteration ([`settle_slopes`]) before the
+/// step is recorded as failed.
+const SLOPE_ROUNDS: usize = 30;
+
+/// A step's gaps have settled when no gap moves by more than this
+/// fraction of the deepest interpenetration between two rounds.
+const SLOPE_TOLERANCE: f64 = 1e-7;
+
+/// Each asperity's contact radius in `solution` (0 out of contact).
+fn contact_radii<L: ContactLaw>(solution: &Solution, problem: &Problem<&L>) -> Vec<f64> {
+    solution
+        .local_contacts(problem)
+        .iter()
+        .map(|c| {
+            if c.force > 0.0 {
+                c.radius.max(0.0)
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+/// `solution`'s forces and approach with the interpenetrations of
+/// `problem` (`δ = δ0 − H − (T + C) P`): a warm start after the gaps moved.
+fn consistent_start<L: ContactLaw>(
+    problem: &Problem<&L>,
+    material: Material,
+    solution: &Solution,
+    correction: &PairCorrection,
+) -> Solution {
+    let mut u = vec![0.0; solution.forces.len()];
+    Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
+        &solution.forces,
+        &mut u,
+        Par::Seq,
+    );
+    correction.apply_add(&solution.forces, &mut u);
+    let depths = problem
+        .gaps()
+        .iter()
+        .zip(&u)
+        .map(|(h, u)| solution.approach - h - u)
+        .collect();
+    let mut start = Solution::warm_start(solution.forces.clone(), depths, solution.approach);
+    start.iterations = solution.iterations;
+    start
+}
+
+/// An uncoupled step under the deformed tread: solve, move each gap to
+/// the slopes the forces cause ([`crate::deformation_slopes`]), solve
+/// again from there, until no gap moves by more than [`SLOPE_TOLERANCE`]
+/// of the deepest interpenetration. Under the profile (`slopes` `None`)
+/// one solve. A step still moving after [`SLOPE_ROUNDS`] is its failure,
+/// the last move over the depth its residual.
+fn settle_slopes<'r, L: ContactLaw + Sync>(
+    (road, material, config, xc): (&'r Road<L>, Material, &RollingConfig, f64),
+    ids: &[usize],
+    (problem, slopes): (&mut Problem<&'r L>, &mut Option<Vec<[f64; 2]>>),
+    (control, options): (Control, &SolverOptions),
+    initial: Option<&Solution>,
+) -> Result<Result<Solution, SolveError>, RollingError> {
+    let mut s = match solve_from(problem, control, options, initial) {
+        Ok(s) => s,
+        Err(e) => return Ok(Err(e)),
+    };
+    let Some(current) = slopes.as_mut() else {
+        return Ok(Ok(s));
+    };
+    let mut iterations = s.iterations;
+    let mut change = f64::INFINITY;
+    for _ in 0..SLOPE_ROUNDS {
+        let radii = contact_radii(&s, problem);
+        let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii) else {
+            return Ok(Ok(s));
+        };
+        let rebuilt = build_at(road, material, config, xc, ids, false, Some(&next))?;
+        let depth = s.depths.iter().fold(0.0f64, |m, &d| m.max(d));
+        change = rebuilt
+            .gaps()
+            .iter()
+            .zip(problem.gaps())
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / depth.max(f64::MIN_POSITIVE);
+        *current = next;
+        if change <= SLOPE_TOLERANCE {
+            // Solved with gaps this close to the settled ones.
+            s.iterations = iterations;
+            return Ok(Ok(s));
+        }
+        *problem = rebuilt;
+        let start = consistent_start(problem, material, &s, &PairCorrection::default());
+        s = match solve_from(problem, control, options, Some(&start)) {
+            Ok(s) => s,
+            Err(e) => return Ok(Err(e)),
+        };
+        iterations += s.iterations;
     }
     Ok(Err(SolveError::NotConverged {
         iterations,

@@ -124,6 +124,44 @@ impl Tread {
         }
     }
 
+    /// [`Tread::contact_gap`] under a tread tilted further by `extra`, the
+    /// slope `∇u` of the displacement the step's other contacts cause
+    /// ([`crate::ContactSlope::Deformed`]): with the local slope
+    /// `σ = ∇s + ∇u` (`∇s = (ξ/Rx, η/Ry)` for a tyre, zero under a block),
+    /// the first point of contact of a summit of radius `R` lies
+    /// `dξ = −σx R Rx/(R + Rx)` off it (`R` under a block) and the gap there
+    /// is `s(ξ, η) − ½ σx² R Rx/(R + Rx) − ½ σy² R Ry/(R + Ry)`. Zero
+    /// `extra` is [`Tread::contact_gap`]; an unknown radius gives the
+    /// summit's profile and no offset.
+    pub fn contact_gap_sloped(
+        &self,
+        xi: f64,
+        eta: f64,
+        radius: f64,
+        extra: [f64; 2],
+    ) -> Option<(f64, [f64; 2])> {
+        if extra == [0.0, 0.0] || !(radius.is_finite() && radius > 0.0) {
+            return self.contact_gap(xi, eta, radius);
+        }
+        let s = self.profile(xi, eta)?;
+        let ([sx, sy], [cx, cy]) = match *self {
+            Tread::Tyre {
+                radius_x, radius_y, ..
+            } => (
+                [xi / radius_x + extra[0], eta / radius_y + extra[1]],
+                [
+                    radius * radius_x / (radius + radius_x),
+                    radius * radius_y / (radius + radius_y),
+                ],
+            ),
+            Tread::Block { .. } => (extra, [radius, radius]),
+        };
+        Some((
+            s - 0.5 * (sx * sx * cx + sy * sy * cy),
+            [-sx * cx, -sy * cy],
+        ))
+    }
+
     /// The smallest profile height on the boundary of the selection window
     /// (footprint grown by `margin`): every asperity outside the window has
     /// a gap at least this large (the gaps are measured from the road's
