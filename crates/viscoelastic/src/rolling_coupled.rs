@@ -40,7 +40,8 @@
 //! contact on the coupling's spread ([`StepCoupling::spread`]) at its
 //! contact point.
 //!
-//! Limits (tested by `tests/visco_calibrated.rs` of the root crate): with
+//! Limits (tested by `tests/rolling_coupled.rs` here and the root crate's
+//! `tests/visco_calibrated_fields.rs`): with
 //! `h = 0` (very slow or very fast rolling) a step is the elastic coupled
 //! step at `E_eff`, so the run is the elastic coupled run with `E∞`, or
 //! with `E∞ + Σ E_k`.
