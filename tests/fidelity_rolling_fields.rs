@@ -379,7 +379,7 @@ fn a_fixed_point_that_does_not_settle_is_its_step_s_failure() -> TestResult {
 /// `tests/fidelity_rolling.rs`'s, at 40 N so that several chippings touch)
 /// runs on `calibrated_fields`, balanced at every step, and not as the
 /// point-coupled `calibrated` run; a
-/// viscoelastic one refuses the rung by name.
+/// viscoelastic one takes it too, and refuses a static-only rung by name.
 #[test]
 fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
     let text = |fidelity: &str| {
@@ -426,8 +426,11 @@ fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
         "poisson_ratio = 0.5\n[material.viscoelastic]\nlong_term = \"2 MPa\"\n\
          [[material.viscoelastic.branch]]\nmodulus = \"3 MPa\"\nrelaxation_time = \"1 ms\"\n",
     );
-    match Scenario::parse(&visco, "visco") {
-        Ok(_) => Err("a viscoelastic calibrated_fields run was accepted".into()),
+    // A viscoelastic tread takes the rung too (tests/visco_calibrated_fields.rs
+    // rolls it); the static-only rungs stay refused by name.
+    Scenario::parse(&visco, "visco")?;
+    match Scenario::parse(&visco.replace("calibrated_fields", "distributed"), "visco") {
+        Ok(_) => Err("a viscoelastic distributed rolling run was accepted".into()),
         Err(e) => {
             assert!(e.to_string().contains("[model] fidelity"), "{e}");
             Ok(())

@@ -445,20 +445,17 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
         ));
     }
     let static_texture = scenario.texture.is_some() && scenario.rolling.is_none();
-    // Rolling on a texture takes calibrated laws with point coupling
-    // (crate::fidelity::rolling) or, elastic only, coupled through their
-    // fields (crate::fidelity::rolling_fields); the other coupled rungs
-    // (distributed, clustered) are static only.
+    // Rolling on a texture, elastic or viscoelastic, takes calibrated laws
+    // with point coupling (crate::fidelity::rolling) or coupled through
+    // their fields (crate::fidelity::rolling_fields); the other coupled
+    // rungs (distributed, clustered) are static only.
     let rolling_texture = scenario.texture.is_some() && scenario.rolling.is_some();
-    let viscoelastic = scenario.material.viscoelastic.is_some();
     let allowed = fidelity == Fidelity::Wilke
         || static_texture
-        || (rolling_texture && fidelity == Fidelity::Calibrated)
-        || (rolling_texture && !viscoelastic && fidelity == Fidelity::CalibratedFields);
+        || (rolling_texture
+            && matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields));
     if !allowed {
-        let expected = if rolling_texture && viscoelastic {
-            "\"wilke\" or \"calibrated\" in a viscoelastic [rolling] run on a [texture]"
-        } else if rolling_texture {
+        let expected = if rolling_texture {
             "\"wilke\", \"calibrated\" or \"calibrated_fields\" in a [rolling] run on a [texture]"
         } else {
             "\"wilke\" here: calibrated laws are built for a [texture] scenario"

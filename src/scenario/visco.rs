@@ -13,15 +13,17 @@ use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
     Branch, MAX_PER_DECADE, MasterCurve, Prony, Receding, TemperatureShift, TrailingMemory,
-    ViscoError, ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic, significant,
+    ViscoError, ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic,
+    roll_viscoelastic_coupled, significant,
 };
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
-use super::texture::{calibrated_texture_road_set, texture_road_set};
+use super::texture::{calibrated_texture_road_set_with, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
-use crate::fidelity::Fidelity;
+use crate::fidelity::rolling_fields::FieldRolling;
+use crate::fidelity::{CalibratedLaw, Fidelity};
 
 /// The time dimension of relaxation times.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -536,12 +538,16 @@ impl Scenario {
             cases,
         };
         if let Some(texture) = &self.texture {
-            if self.model.fidelity()? == Fidelity::Calibrated {
+            let fidelity = self.model.fidelity()?;
+            if matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields) {
                 // Each cap's hereditary law takes the shape of its calibrated
                 // elastic law (linear in the modulus, so the law per unit
                 // modulus is F_cal(δ)/E_ref). The tables are built with E∞:
                 // the softest tread sinks deepest, so the approach bound that
-                // sizes them covers every speed and temperature.
+                // sizes them covers every speed and temperature. With
+                // fields, the tables keep their binned pressures and every
+                // step is coupled through them (a compliance correction
+                // for E∞ that the hereditary step scales to its E_eff).
                 let reference = series
                     .elastic(series.long_term())
                     .map_err(visco_error("long_term"))?;
@@ -549,36 +555,47 @@ impl Scenario {
                 let par = options
                     .par
                     .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-                let (set, summary, radii) = calibrated_texture_road_set(
+                let fields = fidelity == Fidelity::CalibratedFields;
+                let (set, summary, radii) = calibrated_texture_road_set_with(
                     texture,
                     &options.base_dir,
                     reference,
                     &config,
                     par,
                     None,
+                    fields,
                 )?;
                 let road = rolling::Road::new(set).with_summit_radii(radii)?;
                 let sweep = Sweep {
                     material: reference,
                     ..sweep
                 };
-                return Ok(sweep.on(&road, RoadSummary::Texture(summary)));
+                let coupling = if fields {
+                    Some(FieldRolling::with_defaults(&reference)?)
+                } else {
+                    None
+                };
+                let coupling = coupling
+                    .as_ref()
+                    .map(|c| c as &dyn rolling::StepCoupling<CalibratedLaw>);
+                return Ok(sweep.on(&road, RoadSummary::Texture(summary), coupling));
             }
             let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling::Road::new(set).with_summit_radii(radii)?;
-            return Ok(sweep.on(&road, RoadSummary::Texture(summary)));
+            return Ok(sweep.on(&road, RoadSummary::Texture(summary), None));
         }
         match (self.asperities.is_empty(), &spec.synthetic_road) {
             (false, None) => {
                 let set = self.asperity_set()?;
                 let count = set.len();
-                Ok(sweep.on(&rolling::Road::new(set), RoadSummary::Asperities { count }))
+                let road = rolling::Road::new(set);
+                Ok(sweep.on(&road, RoadSummary::Asperities { count }, None))
             }
             (true, Some(synth)) => {
                 let road = synth.road().sphere_road(material)?;
                 let count = road.len();
-                Ok(sweep.on(&road, RoadSummary::Synthetic { count }))
+                Ok(sweep.on(&road, RoadSummary::Synthetic { count }, None))
             }
             _ => Err(ScenarioError::Invalid(
                 "no road, or two: give [[asperity]] entries or [rolling.synthetic_road]".into(),
@@ -597,15 +614,18 @@ struct Sweep<'a> {
 }
 
 impl Sweep<'_> {
+    /// One run per case on `road`, each step coupled by `coupling` when
+    /// given.
     fn on<L: ContactLaw + Sync>(
         &self,
         road: &rolling::Road<L>,
         summary: RoadSummary,
+        coupling: Option<&dyn rolling::StepCoupling<L>>,
     ) -> Vec<Result<RollingRun, ScenarioError>> {
         self.cases
             .iter()
             .map(|case| {
-                self.one(road, summary.clone(), case)
+                self.one((road, coupling), summary.clone(), case)
                     .map_err(|e| self.scenario.located(e))
             })
             .collect()
@@ -613,7 +633,7 @@ impl Sweep<'_> {
 
     fn one<L: ContactLaw + Sync>(
         &self,
-        road: &rolling::Road<L>,
+        (road, coupling): (&rolling::Road<L>, Option<&dyn rolling::StepCoupling<L>>),
         summary: RoadSummary,
         case: &ViscoCase,
     ) -> Result<RollingRun, ScenarioError> {
@@ -631,12 +651,14 @@ impl Sweep<'_> {
             progress: self.options.progress,
             ..ViscoRollOptions::default()
         };
-        let run = roll_viscoelastic(road, self.material, &tread, &config, &options).map_err(
-            |e| match e {
-                ViscoError::Rolling { source } => ScenarioError::Rolling(source),
-                other => ScenarioError::Invalid(format!("viscoelastic rolling: {other}")),
-            },
-        )?;
+        let run = match coupling {
+            None => roll_viscoelastic(road, self.material, &tread, &config, &options),
+            Some(c) => roll_viscoelastic_coupled(road, self.material, &tread, &config, &options, c),
+        }
+        .map_err(|e| match e {
+            ViscoError::Rolling { source } => ScenarioError::Rolling(source),
+            other => ScenarioError::Invalid(format!("viscoelastic rolling: {other}")),
+        })?;
         // The spectra are those of steady rolling: the first footprint
         // length, which still holds the start's loading, is left out (the
         // time signals keep every step).
@@ -657,131 +679,5 @@ impl Sweep<'_> {
 }
 
 #[cfg(test)]
-#[allow(clippy::unwrap_used)]
-mod tests {
-    use super::{Temperature, ViscoCase};
-    use crate::scenario::{RunOptions, Scenario, ScenarioResult};
-
-    /// fixtures/rolling_small.toml's run with a viscoelastic tread.
-    fn small(material: &str) -> Scenario {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/fixtures/rolling_small.toml"
-        ))
-        .unwrap();
-        let text = text.replace(
-            "[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n",
-            material,
-        );
-        Scenario::parse(&text, "small").unwrap()
-    }
-
-    const VISCO: &str = r#"[material]
-youngs_modulus = "6.54 MPa"
-poisson_ratio = 0.5
-
-[material.viscoelastic]
-long_term = "2 MPa"
-
-[[material.viscoelastic.branch]]
-modulus = "3 MPa"
-relaxation_time = "1 ms"
-
-[[material.viscoelastic.branch]]
-modulus = "5 MPa"
-relaxation_time = "20 us"
-
-[material.viscoelastic.shift]
-kind = "wlf"
-c1 = 8.86
-c2 = 101.6
-reference = "20 degC"
-"#;
-
-    #[test]
-    fn a_viscoelastic_scenario_rolls_in_time_between_its_elastic_limits() {
-        let visco = small(VISCO);
-        let options = RunOptions::new(env!("CARGO_MANIFEST_DIR"));
-        let approach = |run: &crate::scenario::RollingRun| run.result.approach();
-        let run = |s: &Scenario| match s.run(&options).unwrap() {
-            ScenarioResult::Rolling(r) => approach(&r),
-            _ => panic!("not a rolling run"),
-        };
-        let at = |e: &str| {
-            small(&format!(
-                "[material]\nyoungs_modulus = \"{e}\"\npoisson_ratio = 0.5\n"
-            ))
-        };
-        // Scenario::run rolls the viscoelastic tread at [rolling] speed.
-        let rolled = run(&visco);
-        let (relaxed, glassy) = (run(&at("2 MPa")), run(&at("10 MPa")));
-        for k in 0..rolled.len() {
-            assert!(glassy[k] < rolled[k] && rolled[k] < relaxed[k], "step {k}");
-        }
-        // The sweep: very slow is the relaxed elastic run (0.5 %); a cold
-        // tread (slower relaxation, WLF) is stiffer than a warm one.
-        let cases = [
-            ViscoCase {
-                speed: Some(1e-5),
-                temperature: None,
-            },
-            ViscoCase {
-                speed: None,
-                temperature: Some(273.15),
-            },
-            ViscoCase {
-                speed: None,
-                temperature: Some(313.15),
-            },
-        ];
-        let runs = visco.roll_viscoelastic(&options, &cases).unwrap();
-        let runs: Vec<Vec<f64>> = runs.into_iter().map(|r| approach(&r.unwrap())).collect();
-        for k in 0..rolled.len() {
-            assert!((runs[0][k] / relaxed[k] - 1.0).abs() < 5e-3, "step {k}");
-            assert!(runs[1][k] < rolled[k] && rolled[k] < runs[2][k], "step {k}");
-        }
-        // Split runs are refused: the memory runs along the whole path.
-        assert!(visco.roll_part(&options, 0..10, 2).is_err());
-    }
-
-    #[test]
-    fn a_bad_viscoelastic_section_is_named() {
-        let options = RunOptions::new(env!("CARGO_MANIFEST_DIR"));
-        let neither = small(
-            "[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\n[material.viscoelastic]\n",
-        );
-        let err = neither.run(&options).unwrap_err().to_string();
-        assert!(err.contains("[material.viscoelastic]"), "{err}");
-        let unshifted = small(&VISCO.replace("[material.viscoelastic.shift]\nkind = \"wlf\"\nc1 = 8.86\nc2 = 101.6\nreference = \"20 degC\"\n", ""));
-        let case = [ViscoCase {
-            speed: None,
-            temperature: Some(300.0),
-        }];
-        let runs = unshifted.roll_viscoelastic(&options, &case).unwrap();
-        let err = runs[0].as_ref().unwrap_err().to_string();
-        assert!(err.contains("shift"), "{err}");
-        let sticky = small(&VISCO.replace(
-            "[material.viscoelastic]\n",
-            "[material.viscoelastic]\ntrailing_memory = \"glued\"\nreceding = \"ting\"\n",
-        ));
-        let err = sticky
-            .roll_viscoelastic(&options, &[ViscoCase::default()])
-            .unwrap()[0]
-            .as_ref()
-            .unwrap_err()
-            .to_string();
-        assert!(
-            err.contains("trailing_memory") && err.contains("glued"),
-            "{err}"
-        );
-    }
-
-    #[test]
-    fn temperatures_convert_to_kelvin() {
-        assert_eq!(Temperature::parse("293.15 K").unwrap().0, 293.15);
-        assert!((Temperature::parse("20 °C").unwrap().0 - 293.15).abs() < 1e-12);
-        assert!((Temperature::parse("-10 degC").unwrap().0 - 263.15).abs() < 1e-12);
-        assert!(Temperature::parse("-300 °C").is_err());
-        assert!(Temperature::parse("warm").unwrap_err().contains("warm"));
-    }
-}
+#[path = "visco_tests.rs"]
+mod tests;

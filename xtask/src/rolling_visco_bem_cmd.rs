@@ -81,6 +81,19 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
         run.bem.failed(),
         run.multipoint.result.status_counts()[2]
     );
+    if let tyreroad::scenario::RoadSummary::Texture(t) = &run.multipoint.road
+        && let Some(cal) = &t.calibration
+    {
+        say!(
+            "calibrated laws: {} of the road's {} asperities, {} tables solved, to {:.3} mm approach, {:.1} s of the multipoint time (steps {:.1} s)",
+            cal.asperities,
+            t.asperities,
+            cal.tables,
+            cal.max_approach * 1e3,
+            cal.time.as_secs_f64(),
+            run.multipoint_time.saturating_sub(cal.time).as_secs_f64()
+        );
+    }
     say!(
         "mean approach: multipoint {:.5} mm, BEM {:.5} mm",
         1e3 * mean(&run.multipoint.result.approach()),

@@ -83,6 +83,7 @@ pub use history::{
 pub use prony::{Branch, GAS_CONSTANT, Prony, TemperatureShift};
 pub use rolling::{
     DEFAULT_FADE, TrailingMemory, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
+    roll_viscoelastic_coupled,
 };
 pub use sphere::{dawson, lee_radok_ramp_force};
-pub use ting::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding};
+pub use ting::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding, keeps_bands};

@@ -72,20 +72,26 @@
 //! complementarity is exact: an asperity whose memory keeps the tread away
 //! simply carries nothing.
 
-use tyreroad_contact_law::{ContactLaw, LocalContact, Material};
+use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
-    Boussinesq, Control, Convergence, Par, Problem, Recovery, Solution, SolveError, SolverOptions,
-    overlapping_contacts, solve_from,
+    Control, PairCorrection, Par, Problem, SolveError, SolverOptions, solve_from,
 };
 use tyreroad_rolling::{
     Progress, ProgressFn, Road, RollingConfig, RollingControl, RollingError, RollingResult,
-    StepRecord, StepStatus, step_problem,
+    StepCoupling, StepRecord, step_problem,
 };
 
 use crate::history::step_coefficients;
 use crate::rolling_law::{MemoryLaw, StepLaw};
 use crate::ting::{BandLaw, Bands};
 use crate::{Prony, Receding, ViscoError};
+
+#[path = "rolling_coupled.rs"]
+mod coupled;
+#[path = "rolling_record.rs"]
+mod record;
+pub use coupled::roll_viscoelastic_coupled;
+use record::warm_start;
 
 /// Default memory threshold: with [`TrailingMemory::Kept`], an asperity
 /// behind the footprint is forgotten once its memory is below this fraction
@@ -190,6 +196,19 @@ pub fn roll_viscoelastic<L: ContactLaw + Sync>(
     config: &RollingConfig,
     options: &ViscoRollOptions<'_>,
 ) -> Result<ViscoRolling, ViscoError> {
+    roll_with(road, reference, tread, config, options, None)
+}
+
+/// [`roll_viscoelastic`], each step under `coupling` when given
+/// ([`roll_viscoelastic_coupled`]).
+fn roll_with<L: ContactLaw + Sync>(
+    road: &Road<L>,
+    reference: Material,
+    tread: &Prony,
+    config: &RollingConfig,
+    options: &ViscoRollOptions<'_>,
+    coupling: Option<&dyn StepCoupling<L>>,
+) -> Result<ViscoRolling, ViscoError> {
     config
         .validate()
         .map_err(|source| ViscoError::Rolling { source })?;
@@ -208,7 +227,7 @@ pub fn roll_viscoelastic<L: ContactLaw + Sync>(
             expected: "in [0, 1)",
         });
     }
-    let mut run = Runner::new(road, reference, tread, config, options);
+    let mut run = Runner::new(road, reference, tread, config, options, coupling);
     let total = config.steps();
     let mut steps = Vec::with_capacity(total);
     let mut receding = Vec::with_capacity(total);
@@ -276,6 +295,13 @@ struct Runner<'r, L> {
     per_decade: Option<usize>,
     /// Per road id, its depth bands (Ting only).
     bands: Vec<Bands>,
+    /// The caller's pair correction of each step ([`roll_viscoelastic_coupled`]).
+    coupling: Option<&'r dyn StepCoupling<L>>,
+    /// The previous step's correction by road ids, at the laws' reference
+    /// modulus: the next step's warm start (empty after a failed step).
+    kept: Vec<(usize, usize, f64)>,
+    /// Scratch: road id → index in the step (`usize::MAX` elsewhere).
+    index: Vec<usize>,
 }
 
 impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
@@ -285,6 +311,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
         tread: &'r Prony,
         config: &'r RollingConfig,
         options: &ViscoRollOptions<'_>,
+        coupling: Option<&'r dyn StepCoupling<L>>,
     ) -> Self {
         let n = road.len();
         let branches = tread.branches().len();
@@ -313,6 +340,9 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 Receding::LeeRadok => Vec::new(),
                 Receding::Ting { .. } => vec![Bands::default(); n],
             },
+            coupling,
+            kept: Vec::new(),
+            index: vec![usize::MAX; n],
         }
     }
 
@@ -375,14 +405,33 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 }
             };
             self.carry = None;
+            self.kept.clear();
             self.remember(&[], &[], &[], effective, &coefficients, relaxed);
             return Ok((self.empty_record(k, approach, boundary), 0));
         };
+        if let Some(coupling) = self.coupling {
+            let step = coupled::Step {
+                k,
+                material,
+                effective,
+                coefficients: &coefficients,
+                relaxed,
+                control,
+                boundary,
+            };
+            return self.coupled_step(coupling, ids, &elastic, &step);
+        }
         let mut dense = std::mem::take(&mut self.dense);
         let problem = self
             .memory_problem(&ids, &elastic, material, effective)
             .map_err(solve_error)?;
-        let initial = warm_start(self.carry.as_ref(), &mut dense, &ids, &problem, material);
+        let initial = warm_start(
+            self.carry.as_ref(),
+            &mut dense,
+            &ids,
+            &problem,
+            &PairCorrection::default(),
+        );
         let options = SolverOptions {
             tolerance: config.tolerance,
             max_iterations: config.max_iterations,
@@ -407,7 +456,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             }
             Err(source) => return Err(solve_error(source)),
         };
-        let record = self.record(k, &ids, &problem, &solution, boundary);
+        let summits: Vec<[f64; 2]> = ids.iter().map(|&i| self.road.positions()[i]).collect();
+        let record = self.record(k, (&ids, &summits), &problem, &solution, boundary, None);
         drop(problem);
         self.dense = dense;
         let shrinking = self.remember(
@@ -452,11 +502,22 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 h + factor * raised
             })
             .collect();
+        let laws = self.step_laws(ids, elastic.laws(), effective);
+        Problem::new(elastic.positions().to_vec(), gaps, laws, material)
+    }
+
+    /// Each asperity's law of the step: Lee–Radok's offset law or Ting's
+    /// bands, at the step's effective modulus.
+    fn step_laws<'p>(
+        &'p self,
+        ids: &[usize],
+        inner: &[&'p L],
+        effective: f64,
+    ) -> Vec<StepLaw<'p, L>> {
         let scale = effective / self.reference.youngs_modulus();
         let reference = self.reference.youngs_modulus();
-        let laws = ids
-            .iter()
-            .zip(elastic.laws())
+        ids.iter()
+            .zip(inner)
             .map(|(&i, &inner)| match self.bands.get(i) {
                 Some(bands) => StepLaw::Ting(BandLaw {
                     inner,
@@ -470,8 +531,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                     offset: self.history[i],
                 }),
             })
-            .collect();
-        Problem::new(elastic.positions().to_vec(), gaps, laws, material)
+            .collect()
     }
 
     /// Advances every memory over the step: asperities of the footprint with
@@ -596,132 +656,4 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             self.branch[i * self.branches + b] = 0.0;
         }
     }
-
-    fn record(
-        &self,
-        k: usize,
-        ids: &[usize],
-        problem: &Problem<StepLaw<'_, L>>,
-        solution: &Solution,
-        boundary: f64,
-    ) -> StepRecord {
-        let config = self.config;
-        let contacts: Vec<LocalContact> = solution.local_contacts(problem);
-        let pos = self.road.positions();
-        let mut sensor_forces = vec![0.0; config.sensors.len()];
-        let mut area = 0.0;
-        let mut contact_ids = Vec::new();
-        let mut contact_forces = Vec::new();
-        for (a, (&i, &p)) in ids.iter().zip(&solution.forces).enumerate() {
-            if p > 0.0 {
-                contact_ids.push(i);
-                contact_forces.push(p);
-                area += contacts[a].area();
-                for (f, s) in sensor_forces.iter_mut().zip(&config.sensors) {
-                    *f += s.share(pos[i], &contacts[a]);
-                }
-            }
-        }
-        let xc = config.position(k);
-        StepRecord {
-            index: k,
-            position: xc,
-            time: xc / config.speed,
-            total_force: contact_forces.iter().sum(),
-            approach: solution.approach,
-            contact_area: area,
-            contacts: contact_ids.len(),
-            selected: ids.len(),
-            iterations: solution.iterations,
-            status: match solution.convergence {
-                Convergence::Converged => StepStatus::Converged,
-                Convergence::Stagnated { .. } => StepStatus::Stagnated,
-            },
-            recovery: solution.recovery,
-            residual: solution.residual,
-            clearance: boundary - solution.approach,
-            overlapping: overlapping_contacts(problem.positions(), &contacts).len(),
-            sensor_forces,
-            contact_ids,
-            contact_forces,
-        }
-    }
-
-    fn empty_record(&self, k: usize, approach: f64, boundary: f64) -> StepRecord {
-        let xc = self.config.position(k);
-        StepRecord {
-            index: k,
-            position: xc,
-            time: xc / self.config.speed,
-            total_force: 0.0,
-            approach,
-            contact_area: 0.0,
-            contacts: 0,
-            selected: 0,
-            iterations: 0,
-            status: StepStatus::Converged,
-            recovery: Recovery::None,
-            residual: 0.0,
-            clearance: boundary - approach,
-            overlapping: 0,
-            sensor_forces: vec![0.0; self.config.sensors.len()],
-            contact_ids: Vec::new(),
-            contact_forces: Vec::new(),
-        }
-    }
-
-    fn failed_record(
-        &self,
-        k: usize,
-        selected: usize,
-        iterations: usize,
-        residual: f64,
-    ) -> StepRecord {
-        let nan = f64::NAN;
-        StepRecord {
-            total_force: nan,
-            approach: nan,
-            contact_area: nan,
-            selected,
-            iterations,
-            status: StepStatus::Failed,
-            residual,
-            clearance: nan,
-            sensor_forces: vec![nan; self.config.sensors.len()],
-            ..self.empty_record(k, nan, nan)
-        }
-    }
-}
-
-/// The previous step's forces mapped by road id (new asperities at 0),
-/// with consistent interpenetrations; `dense` is an id-indexed scratch of
-/// zeros, left zero.
-fn warm_start<L: ContactLaw>(
-    carry: Option<&(Vec<usize>, Vec<f64>, f64)>,
-    dense: &mut [f64],
-    ids: &[usize],
-    problem: &Problem<L>,
-    material: Material,
-) -> Option<Solution> {
-    let (old_ids, old_forces, approach) = carry?;
-    for (&i, &p) in old_ids.iter().zip(old_forces) {
-        dense[i] = p;
-    }
-    let forces: Vec<f64> = ids.iter().map(|&i| dense[i]).collect();
-    for &i in old_ids {
-        dense[i] = 0.0;
-    }
-    let mut u = vec![0.0; forces.len()];
-    Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-        &forces,
-        &mut u,
-        Par::Seq,
-    );
-    let depths = problem
-        .gaps()
-        .iter()
-        .zip(&u)
-        .map(|(h, u)| approach - h - u)
-        .collect();
-    Some(Solution::warm_start(forces, depths, *approach))
 }

@@ -324,6 +324,18 @@ impl Bands {
     }
 }
 
+/// Whether Ting's treatment keeps `law`'s depth bands down to `depth` (m)
+/// at `per_decade` bands a decade: the law's slope does not fall from one
+/// band level to the next (the rule [`Receding::Ting`] applies while
+/// rolling); otherwise the asperity keeps one band for all depths,
+/// Lee–Radok's recursion clipped at zero. `reference` is the modulus the
+/// law was built with (Pa).
+pub fn keeps_bands<L: ContactLaw>(law: &L, reference: f64, per_decade: usize, depth: f64) -> bool {
+    let mut bands = Bands::default();
+    bands.reach(depth, law, reference, per_decade.max(1), 0);
+    bands.levels.last().is_none_or(|l| l.depth != f64::INFINITY)
+}
+
 /// The law of one asperity during one step under Ting's treatment:
 /// `P(δ) = Σ_b max(0, E_eff f_b(δ) + h_b) + E_eff (f(δ) − inner_top(δ))`.
 ///
@@ -523,6 +535,14 @@ mod tests {
         let expected = (3e6 * depth.sqrt() + h).max(0.0);
         assert!((law.evaluate(depth).force - expected).abs() <= 1e-9 * expected.max(1.0));
         assert_eq!(law.evaluate(1e-12).force, 0.0);
+    }
+
+    #[test]
+    fn a_convex_law_keeps_its_bands_and_a_concave_one_does_not() {
+        assert!(super::keeps_bands(&hertz(), 1e6, 20, 1e-3));
+        assert!(!super::keeps_bands(&Concave, 1e6, 20, 1e-3));
+        // Above the floor there is one band only, whatever the law.
+        assert!(super::keeps_bands(&Concave, 1e6, 20, 0.5 * BAND_FLOOR));
     }
 
     #[test]
