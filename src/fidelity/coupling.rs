@@ -32,6 +32,7 @@
 use rayon::prelude::*;
 
 use super::field::{UnitField, centroid_and_reach, field_compliance};
+use super::pair_sum::{PackedField, packed_compliance};
 use super::{CalibratedLaw, FidelityError};
 use crate::multipoint::{
     Control, PairCorrection, Problem, Solution, SolverOptions, solve_corrected, solve_from,
@@ -141,7 +142,16 @@ pub fn field_correction(
                     continue;
                 }
                 let near = r < reach * (ri + rj);
-                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
+                let g = if near {
+                    field_compliance(
+                        &fields[i].0,
+                        &fields[j].0,
+                        0.5 * fields[i].3.min(fields[j].3),
+                    )
+                } else {
+                    centroid_compliance(&fields[i], &fields[j])
+                };
+                if let Some(c) = pair_correction(g, r, factor) {
                     row.push((i, j, c, near));
                 }
             }
@@ -293,6 +303,11 @@ pub fn sparse_field_correction(
     }
     let fields = placed_fields(laws.iter().copied(), positions, depths)?;
     let extent_max = fields.iter().map(|f| f.2).fold(0.0, f64::max);
+    // Packed once a round, not once a pair.
+    let packed: Vec<PackedField> = fields
+        .par_iter()
+        .map(|f| PackedField::new(&f.0, f.1))
+        .collect();
     let mut by_x: Vec<usize> = (0..n).collect();
     by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
     let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
@@ -317,7 +332,13 @@ pub fn sparse_field_correction(
                     continue;
                 }
                 let near = r < reach.near * (ri + rj);
-                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
+                let g = if near {
+                    let floor = 0.5 * fields[i].3.min(fields[j].3);
+                    packed_compliance(&packed[i], &packed[j], floor)
+                } else {
+                    centroid_compliance(&fields[i], &fields[j])
+                };
+                if let Some(c) = pair_correction(g, r, factor) {
                     row.push((i.min(j), i.max(j), c, near));
                 }
             }
@@ -360,22 +381,17 @@ fn placed_fields<'l>(
         .collect()
 }
 
-/// The correction `f (g − 1/r)` of one pair whose summits lie `r` apart:
-/// `g` the binned double sum of their fields when `near`, else `1/` the
-/// distance of their centroids; `None` where `g` is the point kernel to
+/// `G` of two fields far enough apart to be taken at their centroids
+/// (module docs): `1/|c_a − c_b|`.
+fn centroid_compliance(a: &PlacedField, b: &PlacedField) -> f64 {
+    1.0 / (a.1[0] - b.1[0]).hypot(a.1[1] - b.1[1])
+}
+
+/// The correction `f (g − 1/r)` of one pair whose summits lie `r` apart
+/// and whose fields couple by `g` (1/m: the double sum of a near pair, the
+/// centroids' of a farther one); `None` where `g` is the point kernel to
 /// [`NEGLIGIBLE`] (or not finite).
-fn pair_correction(
-    a: &PlacedField,
-    b: &PlacedField,
-    r: f64,
-    near: bool,
-    factor: f64,
-) -> Option<f64> {
-    let g = if near {
-        field_compliance(&a.0, &b.0, 0.5 * a.3.min(b.3))
-    } else {
-        1.0 / (a.1[0] - b.1[0]).hypot(a.1[1] - b.1[1])
-    };
+fn pair_correction(g: f64, r: f64, factor: f64) -> Option<f64> {
     ((g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite()).then(|| factor * (g - 1.0 / r))
 }
 
