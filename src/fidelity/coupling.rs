@@ -263,7 +263,8 @@ impl Default for PairReach {
 pub enum PairSum {
     /// Packed once a round, `f32` positions about each field's centroid
     /// ([`super::pair_sum::packed_compliance`]): the `f64` sum to ~1e-6
-    /// relative, 4–5× faster.
+    /// relative, at a fraction of its cost (docs/performance.md, "The
+    /// `calibrated_fields` rung in rolling").
     #[default]
     Packed,
     /// Bin by bin in `f64` ([`field_compliance`]): the reference the
@@ -274,12 +275,12 @@ pub enum PairSum {
 /// The field correction `C` of a step's asperities at `positions` (m, the
 /// points the point kernel couples: each field's points are taken relative
 /// to its asperity's position), `depths` (m) and `forces` (N), without
-/// visiting all `N²` pairs: the asperities sorted by x, each paired only
-/// with those within `far (R_i + R_max)` along x, and then by distance as
-/// [`PairReach`] says, near pairs' double sums as `sum` says. Pairs where
-/// neither asperity carries a force are
-/// left out (their correction multiplies zero forces; a pair that comes
-/// into contact is picked up by the next round of the fixed point).
+/// visiting all `N²` pairs: the asperities sorted by x, each loaded one
+/// paired only with those within `far (R_i + R_max)` along x, and then by
+/// distance as [`PairReach`] says, near pairs' double sums as `sum` says.
+/// Pairs where neither asperity carries a force are never visited (their
+/// correction multiplies zero forces; a pair that comes into contact is
+/// picked up by the next round of the fixed point).
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] for slices of different lengths, a
