@@ -438,8 +438,8 @@ fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
 }
 
 /// The packed near-pair sums (the default) against the `f64` bin-by-bin
-/// sums they replace, rolled over a small aggregate road (4/6 mm
-/// chippings, 40 N on a 20 × 16 mm block: many loaded near pairs): every
+/// sums they replace, rolled over an aggregate road (4/6 mm chippings,
+/// 150 N on a 40 × 24 mm block: many loaded near pairs): every
 /// step's approach, contact forces and sensor forces agree to 1e-5 of the
 /// load. The packed sum is the `f64` one to ~1e-6 relative and the fixed
 /// point stops at 1e-6 of the load, so the two runs can differ by a few
@@ -447,19 +447,19 @@ fn a_rolling_texture_scenario_takes_the_field_rung() -> TestResult {
 #[test]
 fn packed_pair_sums_give_the_exact_sums_step_forces() -> TestResult {
     let text = "name = \"r\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
-                [rolling]\nstart = \"13 mm\"\nend = \"16 mm\"\nstep = \"0.5 mm\"\n\
-                speed = \"10 m/s\"\n[rolling.tread]\nkind = \"block\"\nlength = \"20 mm\"\n\
-                width = \"16 mm\"\n[rolling.control]\nload = \"40 N\"\n\
-                [[rolling.sensor]]\nname = \"s\"\nx0 = \"10 mm\"\nx1 = \"16 mm\"\n\
+                [rolling]\nstart = \"22 mm\"\nend = \"25 mm\"\nstep = \"0.5 mm\"\n\
+                speed = \"10 m/s\"\n[rolling.tread]\nkind = \"block\"\nlength = \"40 mm\"\n\
+                width = \"24 mm\"\n[rolling.control]\nload = \"150 N\"\n\
+                [[rolling.sensor]]\nname = \"s\"\nx0 = \"18 mm\"\nx1 = \"26 mm\"\n\
                 y0 = \"-4 mm\"\ny1 = \"3 mm\"\n\
                 [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
-                [texture.synth]\nkind = \"aggregate\"\nnx = 150\nny = 100\nspacing = \"0.2 mm\"\n\
+                [texture.synth]\nkind = \"aggregate\"\nnx = 250\nny = 150\nspacing = \"0.2 mm\"\n\
                 grading = \"4/6\"\nseed = 2006\n";
     let scenario = Scenario::parse(text, "aggregate")?;
     let texture = scenario.texture.as_ref().ok_or("no texture")?;
     let map = texture.height_map(std::path::Path::new("."))?;
     let config = scenario.rolling_config()?;
-    let load = 40.0;
+    let load = 150.0;
     let road = calibrated_road_with(&map, &config, &texture.road_options());
     let m = material();
     let packed = FieldRolling::with_defaults(&m)?;
