@@ -10,9 +10,11 @@
 //! stay within 3× of its time today"): 40 steps of the chip-seal fixture
 //! (`fixtures/rolling_tyre_chip_seal.toml`) on its Wilke road and on its
 //! calibrated road, plain (`calibrated`) and coupled through its fields
-//! (`calibrated_fields`), the calibration (with fields) done once before
-//! timing (a later run reading its tables back from the checkpoint folder
-//! pays only the steps).
+//! (`calibrated_fields`; and once more with the near pairs' double sums
+//! bin by bin in `f64`, `PairSum::Exact`, to show what packing them
+//! brings), the calibration (with fields) done once before timing (a later
+//! run reading its tables back from the checkpoint folder pays only the
+//! steps).
 //!
 //! The field: `multipoint::layouts::road_like_field` (mean spacing 3 mm,
 //! summit heights over 0.5 mm), its radii rounded to 0.5 mm classes so the
@@ -23,7 +25,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::PotentialLaw;
-use tyreroad::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
+use tyreroad::fidelity::coupling::{FieldCouplingOptions, PairSum, solve_field_coupled};
 use tyreroad::fidelity::rolling_fields::FieldRolling;
 use tyreroad::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, CapPatch, Coupling, LawSource, RUNGS, calibrate,
@@ -168,6 +170,17 @@ fn bench_rolling(c: &mut Criterion) {
     group.bench_function("calibrated_fields", |b| {
         b.iter(|| {
             tyreroad::rolling::roll_coupled(&calibrated, material, &config, &options, &coupling)
+                .expect("roll")
+        })
+    });
+    // The same with the near pairs' double sums bin by bin in f64 (the
+    // reference the packed sums are tested against): what packing brings.
+    let exact = FieldRolling::with_defaults(&material)
+        .expect("coupling")
+        .with_pair_sum(PairSum::Exact);
+    group.bench_function("calibrated_fields_exact_sums", |b| {
+        b.iter(|| {
+            tyreroad::rolling::roll_coupled(&calibrated, material, &config, &options, &exact)
                 .expect("roll")
         })
     });

@@ -21,18 +21,19 @@
 //!
 //! Tables are cached by shape: the key hashes the quantised patch heights
 //! (to [`HEIGHT_QUANTUM`]), the grid, `δ_max`, `E*`, the options (node
-//! count, tolerance, warm start) and a format version, so identical caps
-//! (the same chipping repeated, a sphere field) are solved once per
-//! [`Calibrator`]; optionally also on disk, one small CSV per shape.
+//! count, tolerance, warm start), whether the table keeps fields and a
+//! format version, so identical caps (the same chipping repeated, a sphere
+//! field) are solved once per [`Calibrator`]; optionally also on disk, one
+//! small file per shape (`cache`: a CSV without fields, a checksummed
+//! binary with them; a file that cannot be read back whole is solved
+//! again, never half read).
 //!
 //! A calibrator [`Calibrator::with_fields`] also keeps, per knot, the BEM
 //! pressure binned into a compact field ([`super::field`]) for the
-//! `calibrated_fields` coupling. Fields are not in the disk cache (its
-//! format is unchanged): such a calibrator neither reads nor writes it and
-//! solves every new shape again.
+//! `calibrated_fields` coupling.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use tyreroad_bem::{BemOptions, Par};
@@ -42,7 +43,9 @@ use tyreroad_core::pchip::{PchipRule, pchip_slopes};
 use super::FidelityError;
 use super::field::{BinnedField, UnitField};
 
+mod cache;
 mod window;
+use cache::{CACHE_VERSION, Fnv};
 use window::KnotSolver;
 
 /// Heights are quantised to this step (m) before hashing: caps equal to
@@ -559,33 +562,6 @@ fn touches_border(pressure: &[f64], nx: usize, ny: usize) -> bool {
     })
 }
 
-/// Hashed into every cache key: tables written by an earlier calibration
-/// (before the windows and warm starts, version 1 unhashed) are not read
-/// back as if solved the current way.
-const CACHE_VERSION: u64 = 2;
-
-/// 64-bit FNV-1a: stable across builds, so a disk cache survives a
-/// toolchain change (std's hasher does not promise that).
-struct Fnv(u64);
-
-impl Fnv {
-    fn new() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
-    }
-    fn bytes(&mut self, b: &[u8]) {
-        for &x in b {
-            self.0 ^= u64::from(x);
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-    fn u64(&mut self, v: u64) {
-        self.bytes(&v.to_le_bytes());
-    }
-    fn quantised(&mut self, v: f64) {
-        self.u64((v / HEIGHT_QUANTUM).round() as i64 as u64);
-    }
-}
-
 type Slot = Arc<Mutex<Option<Arc<CalibratedTable>>>>;
 
 /// Calibrates laws and caches their tables by shape.
@@ -626,8 +602,9 @@ impl Calibrator {
     }
 
     /// Also keeps each table's binned pressure fields (for the
-    /// `calibrated_fields` coupling); the disk cache, which holds no
-    /// fields, is then neither read nor written.
+    /// `calibrated_fields` coupling); a disk cache then holds them too
+    /// (their own files and keys: a table without fields never stands in
+    /// for one with them).
     pub fn with_fields(mut self) -> Self {
         self.fields = true;
         self
@@ -666,6 +643,7 @@ impl Calibrator {
         h.u64(self.material.reduced_modulus().to_bits());
         h.u64(self.options.nodes as u64);
         h.u64(self.options.tolerance.to_bits());
+        h.u64(u64::from(self.fields));
         for &z in &patch.heights {
             h.quantised(z);
         }
@@ -696,9 +674,11 @@ impl Calibrator {
         let file = self
             .disk
             .as_ref()
-            .filter(|_| !self.fields)
-            .map(|d| d.join(format!("calib-{key:016x}.csv")));
-        let table = match file.as_deref().and_then(read_table) {
+            .map(|d| cache::file_for(d, key, self.fields));
+        let table = match file
+            .as_deref()
+            .and_then(|f| cache::read_table(f, key, self.fields))
+        {
             Some(t) => {
                 self.count(|c| c.disk_hits += 1);
                 t
@@ -708,7 +688,7 @@ impl Calibrator {
                     calibrate_table(patch, max_depth, &self.material, &self.options, self.fields)?;
                 self.count(|c| c.solved += 1);
                 if let Some(f) = &file {
-                    write_table(f, &t)?;
+                    cache::write_table(f, key, &t)?;
                 }
                 t
             }
@@ -721,49 +701,4 @@ impl Calibrator {
     fn count(&self, f: impl FnOnce(&mut CacheCounts)) {
         f(&mut self.counts.lock().unwrap_or_else(|e| e.into_inner()));
     }
-}
-
-fn write_table(file: &Path, t: &CalibratedTable) -> Result<(), FidelityError> {
-    let io = |source| FidelityError::Cache {
-        path: file.to_path_buf(),
-        source,
-    };
-    if let Some(dir) = file.parent() {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let mut text = format!(
-        "depth_m,force_n,area_m2,reached_border={}\n",
-        t.reached_border
-    );
-    for (d, f, a) in t.knots() {
-        text.push_str(&format!("{d:e},{f:e},{a:e}\n"));
-    }
-    // Written beside and renamed: a reader never sees half a table.
-    let partial = file.with_extension("partial");
-    std::fs::write(&partial, text).map_err(io)?;
-    std::fs::rename(&partial, file).map_err(io)
-}
-
-/// A cached table, or `None` if it is missing or malformed (then solved
-/// again: the cache is a convenience, never an input).
-fn read_table(file: &Path) -> Option<CalibratedTable> {
-    let text = std::fs::read_to_string(file).ok()?;
-    let mut lines = text.lines();
-    let reached_border = lines.next()?.ends_with("reached_border=true");
-    let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
-    for line in lines {
-        let mut it = line.split(',').map(|s| s.parse::<f64>());
-        let (Some(Ok(x)), Some(Ok(y)), Some(Ok(z)), None) =
-            (it.next(), it.next(), it.next(), it.next())
-        else {
-            return None;
-        };
-        if !(x.is_finite() && y.is_finite() && z.is_finite()) || d.last().is_some_and(|&l| x <= l) {
-            return None;
-        }
-        d.push(x);
-        f.push(y);
-        a.push(z);
-    }
-    (d.len() >= 2).then(|| CalibratedTable::from_knots(d, f, a, reached_border))
 }

@@ -32,6 +32,7 @@
 use rayon::prelude::*;
 
 use super::field::{UnitField, centroid_and_reach, field_compliance};
+use super::pair_sum::{PackedField, packed_compliance};
 use super::{CalibratedLaw, FidelityError};
 use crate::multipoint::{
     Control, PairCorrection, Problem, Solution, SolverOptions, solve_corrected, solve_from,
@@ -141,7 +142,16 @@ pub fn field_correction(
                     continue;
                 }
                 let near = r < reach * (ri + rj);
-                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
+                let g = if near {
+                    field_compliance(
+                        &fields[i].0,
+                        &fields[j].0,
+                        0.5 * fields[i].3.min(fields[j].3),
+                    )
+                } else {
+                    centroid_compliance(&fields[i], &fields[j])
+                };
+                if let Some(c) = pair_correction(g, r, factor) {
                     row.push((i, j, c, near));
                 }
             }
@@ -248,14 +258,29 @@ impl Default for PairReach {
     }
 }
 
+/// How the rolling correction evaluates a near pair's double sum.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PairSum {
+    /// Packed once a round, `f32` positions about each field's centroid
+    /// ([`super::pair_sum::packed_compliance`]): the `f64` sum to ~1e-6
+    /// relative, at a fraction of its cost (docs/performance.md, "The
+    /// `calibrated_fields` rung in rolling").
+    #[default]
+    Packed,
+    /// Bin by bin in `f64` ([`field_compliance`]): the reference the
+    /// packed sum is tested against.
+    Exact,
+}
+
 /// The field correction `C` of a step's asperities at `positions` (m, the
 /// points the point kernel couples: each field's points are taken relative
 /// to its asperity's position), `depths` (m) and `forces` (N), without
-/// visiting all `N²` pairs: the asperities sorted by x, each paired only
-/// with those within `far (R_i + R_max)` along x, and then by distance as
-/// [`PairReach`] says. Pairs where neither asperity carries a force are
-/// left out (their correction multiplies zero forces; a pair that comes
-/// into contact is picked up by the next round of the fixed point).
+/// visiting all `N²` pairs: the asperities sorted by x, each loaded one
+/// paired only with those within `far (R_i + R_max)` along x, and then by
+/// distance as [`PairReach`] says, near pairs' double sums as `sum` says.
+/// Pairs where neither asperity carries a force are never visited (their
+/// correction multiplies zero forces; a pair that comes into contact is
+/// picked up by the next round of the fixed point).
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] for slices of different lengths, a
@@ -268,6 +293,7 @@ pub fn sparse_field_correction(
     forces: &[f64],
     factor: f64,
     reach: PairReach,
+    sum: PairSum,
 ) -> Result<FieldCorrection, FidelityError> {
     let n = positions.len();
     if laws.len() != n || depths.len() != n || forces.len() != n {
@@ -293,32 +319,68 @@ pub fn sparse_field_correction(
     }
     let fields = placed_fields(laws.iter().copied(), positions, depths)?;
     let extent_max = fields.iter().map(|f| f.2).fold(0.0, f64::max);
+    // Packed once a round, not once a pair.
+    let packed: Vec<PackedField> = match sum {
+        PairSum::Packed => fields
+            .par_iter()
+            .map(|f| PackedField::new(&f.0, f.1))
+            .collect(),
+        PairSum::Exact => Vec::new(),
+    };
     let mut by_x: Vec<usize> = (0..n).collect();
     by_x.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
+    let loaded = |i: usize| forces[i] > 0.0;
+    // Each pair with a loaded asperity is visited once, from a loaded one:
+    // rightwards to every asperity in the window, leftwards to the unloaded
+    // ones only (a loaded one on the left visits the pair itself). Most of
+    // a step's asperities carry no force, and no unloaded one is scanned.
+    let pair = |i: usize, j: usize, row: &mut Vec<(usize, usize, f64, bool)>| {
+        let (ri, rj) = (fields[i].2, fields[j].2);
+        let (dx, dy) = (
+            positions[j][0] - positions[i][0],
+            positions[j][1] - positions[i][1],
+        );
+        let r2 = dx * dx + dy * dy;
+        let far = reach.far * (ri + rj);
+        // Coincident points have no point coupling to correct.
+        if r2 == 0.0 || r2 >= far * far {
+            return;
+        }
+        let r = r2.sqrt();
+        let near = r < reach.near * (ri + rj);
+        let g = if near {
+            let floor = 0.5 * fields[i].3.min(fields[j].3);
+            match sum {
+                PairSum::Packed => packed_compliance(&packed[i], &packed[j], floor),
+                PairSum::Exact => field_compliance(&fields[i].0, &fields[j].0, floor),
+            }
+        } else {
+            centroid_compliance(&fields[i], &fields[j])
+        };
+        if let Some(c) = pair_correction(g, r, factor) {
+            row.push((i.min(j), i.max(j), c, near));
+        }
+    };
     let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
         .into_par_iter()
-        .map(|k| {
+        .filter(|&k| loaded(by_x[k]))
+        .fold(Vec::new, |mut row, k| {
             let i = by_x[k];
-            let ri = fields[i].2;
-            let window = reach.far * (ri + extent_max);
-            let mut row = Vec::new();
-            for &j in &by_x[k + 1..] {
-                if positions[j][0] - positions[i][0] > window {
-                    break;
-                }
-                if !(forces[i] > 0.0 || forces[j] > 0.0) {
-                    continue;
-                }
-                let rj = fields[j].2;
-                let r =
-                    (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
-                // Coincident points have no point coupling to correct.
-                if r == 0.0 || r >= reach.far * (ri + rj) {
-                    continue;
-                }
-                let near = r < reach.near * (ri + rj);
-                if let Some(c) = pair_correction(&fields[i], &fields[j], r, near, factor) {
-                    row.push((i.min(j), i.max(j), c, near));
+            let window = reach.far * (fields[i].2 + extent_max);
+            let x = positions[i][0];
+            for &j in by_x[k + 1..]
+                .iter()
+                .take_while(|&&j| positions[j][0] - x <= window)
+            {
+                pair(i, j, &mut row);
+            }
+            for &j in by_x[..k]
+                .iter()
+                .rev()
+                .take_while(|&&j| x - positions[j][0] <= window)
+            {
+                if !loaded(j) {
+                    pair(i, j, &mut row);
                 }
             }
             row
@@ -360,22 +422,18 @@ fn placed_fields<'l>(
         .collect()
 }
 
-/// The correction `f (g − 1/r)` of one pair whose summits lie `r` apart:
-/// `g` the binned double sum of their fields when `near`, else `1/` the
-/// distance of their centroids; `None` where `g` is the point kernel to
+/// `G` of two fields far enough apart to be taken at their centroids
+/// (module docs): `1/|c_a − c_b|`.
+fn centroid_compliance(a: &PlacedField, b: &PlacedField) -> f64 {
+    let (dx, dy) = (a.1[0] - b.1[0], a.1[1] - b.1[1]);
+    1.0 / (dx * dx + dy * dy).sqrt()
+}
+
+/// The correction `f (g − 1/r)` of one pair whose summits lie `r` apart
+/// and whose fields couple by `g` (1/m: the double sum of a near pair, the
+/// centroids' of a farther one); `None` where `g` is the point kernel to
 /// [`NEGLIGIBLE`] (or not finite).
-fn pair_correction(
-    a: &PlacedField,
-    b: &PlacedField,
-    r: f64,
-    near: bool,
-    factor: f64,
-) -> Option<f64> {
-    let g = if near {
-        field_compliance(&a.0, &b.0, 0.5 * a.3.min(b.3))
-    } else {
-        1.0 / (a.1[0] - b.1[0]).hypot(a.1[1] - b.1[1])
-    };
+fn pair_correction(g: f64, r: f64, factor: f64) -> Option<f64> {
     ((g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite()).then(|| factor * (g - 1.0 / r))
 }
 

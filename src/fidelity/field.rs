@@ -99,6 +99,46 @@ impl BinnedField {
         self.knots.push(bins);
     }
 
+    /// The bins of knot `k` as `(index, force, moment)`, by index (for
+    /// the disk cache); none past the last knot.
+    pub(crate) fn bins(&self, k: usize) -> impl Iterator<Item = (u32, f64, [f64; 2])> + '_ {
+        self.knots
+            .get(k)
+            .into_iter()
+            .flatten()
+            .map(|b| (b.index, b.force, b.moment))
+    }
+
+    /// A field from its bin side (m) and each knot's bins as
+    /// [`Self::bins`] gives them; `None` unless the side is finite and
+    /// positive, every force finite and positive, every moment finite and
+    /// each knot's indices strictly increasing (what [`Self::push_knot`]
+    /// makes).
+    pub(crate) fn from_bins(bin: f64, knots: Vec<Vec<(u32, f64, [f64; 2])>>) -> Option<Self> {
+        if !(bin.is_finite() && bin > 0.0) {
+            return None;
+        }
+        let knots = knots
+            .into_iter()
+            .map(|bins| {
+                let ok = bins.windows(2).all(|w| w[0].0 < w[1].0)
+                    && bins.iter().all(|&(_, f, m)| {
+                        f.is_finite() && f > 0.0 && m[0].is_finite() && m[1].is_finite()
+                    });
+                ok.then(|| {
+                    bins.into_iter()
+                        .map(|(index, force, moment)| Bin {
+                            index,
+                            force,
+                            moment,
+                        })
+                        .collect()
+                })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Self { bin, knots })
+    }
+
     /// The unit field at a depth between knots `k` and `k + 1` at fraction
     /// `t ∈ [0, 1]` (knot indices of the owning table), shifted by
     /// `origin` (m): the bins' forces and moments blended linearly, each

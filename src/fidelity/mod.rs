@@ -39,6 +39,7 @@ mod calibrate;
 pub mod compare;
 pub mod coupling;
 pub mod field;
+pub mod pair_sum;
 pub mod rolling;
 pub mod rolling_fields;
 pub mod segmentation;

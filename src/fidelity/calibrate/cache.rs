@@ -1,0 +1,381 @@
+//! The disk cache of calibrated tables: one file per shape, named by the
+//! [`super::Calibrator`]'s key (which hashes [`CACHE_VERSION`], the shape,
+//! the grid, `δ_max`, `E*`, the options and whether the table keeps its
+//! fields).
+//!
+//! - A table without fields: `calib-<key>.csv`, one line `δ, F, A` per
+//!   knot, the border flag in the header (the format of cache version 2).
+//! - A table with fields: `calib-<key>.fields`, little-endian binary
+//!   (bin records are too many for text):
+//!
+//!   ```text
+//!   magic b"TYRCALF1" · key u64 · reached_border u8 · knots u64
+//!   knots × (δ f64, F f64, A f64) · bin side f64
+//!   knots × (bins u32 · bins × (index u32, force f64, moment_x f64, moment_y f64))
+//!   FNV-1a u64 of every byte before it
+//!   ```
+//!
+//! Values are written bit for bit (the CSV's shortest round-trip decimal
+//! is exact too), so a table read back is the table written. A file that
+//! cannot be read back whole — missing, truncated, another magic or key,
+//! a count past the file's end, a checksum that does not match, a value
+//! out of range or out of order — is treated as absent: the table is
+//! solved again and the file rewritten. Never a panic, never a table from
+//! part of a file. Files are written beside and renamed, so a reader never
+//! sees half a file.
+
+use std::path::{Path, PathBuf};
+
+use super::super::field::BinnedField;
+use super::{CalibratedTable, FidelityError};
+
+/// Hashed into every cache key: tables written by an earlier calibration
+/// (before the windows and warm starts, version 1 unhashed; before fields
+/// were cached, version 2) are not read back as if solved the current way.
+pub(super) const CACHE_VERSION: u64 = 3;
+
+/// The first bytes of a table-with-fields file.
+const MAGIC: &[u8; 8] = b"TYRCALF1";
+
+/// 64-bit FNV-1a: stable across builds, so a disk cache survives a
+/// toolchain change (std's hasher does not promise that).
+pub(super) struct Fnv(pub(super) u64);
+
+impl Fnv {
+    pub(super) fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+    pub(super) fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= u64::from(x);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    pub(super) fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+    pub(super) fn quantised(&mut self, v: f64) {
+        self.u64((v / super::HEIGHT_QUANTUM).round() as i64 as u64);
+    }
+}
+
+/// The file of the table with `key` under `dir`.
+pub(super) fn file_for(dir: &Path, key: u64, fields: bool) -> PathBuf {
+    let extension = if fields { "fields" } else { "csv" };
+    dir.join(format!("calib-{key:016x}.{extension}"))
+}
+
+/// Writes `t` to `file` (the binary format when it has fields).
+///
+/// # Errors
+/// [`FidelityError::Cache`] when the folder or the file cannot be written.
+pub(super) fn write_table(file: &Path, key: u64, t: &CalibratedTable) -> Result<(), FidelityError> {
+    let io = |source| FidelityError::Cache {
+        path: file.to_path_buf(),
+        source,
+    };
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    let bytes = match t.field() {
+        Some(field) => encode(t, field, key),
+        None => csv_text(t).into_bytes(),
+    };
+    let partial = file.with_extension("partial");
+    std::fs::write(&partial, bytes).map_err(io)?;
+    std::fs::rename(&partial, file).map_err(io)
+}
+
+/// A cached table with fields when `fields`, or `None` if the file is
+/// missing or cannot be read back whole (module docs).
+pub(super) fn read_table(file: &Path, key: u64, fields: bool) -> Option<CalibratedTable> {
+    if fields {
+        decode(&std::fs::read(file).ok()?, key)
+    } else {
+        read_csv(&std::fs::read_to_string(file).ok()?)
+    }
+}
+
+fn csv_text(t: &CalibratedTable) -> String {
+    let mut text = format!(
+        "depth_m,force_n,area_m2,reached_border={}\n",
+        t.reached_border
+    );
+    for (d, f, a) in t.knots() {
+        text.push_str(&format!("{d:e},{f:e},{a:e}\n"));
+    }
+    text
+}
+
+fn read_csv(text: &str) -> Option<CalibratedTable> {
+    let mut lines = text.lines();
+    let reached_border = lines.next()?.ends_with("reached_border=true");
+    let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
+    for line in lines {
+        let mut it = line.split(',').map(|s| s.parse::<f64>());
+        let (Some(Ok(x)), Some(Ok(y)), Some(Ok(z)), None) =
+            (it.next(), it.next(), it.next(), it.next())
+        else {
+            return None;
+        };
+        if !knot_ok(&d, x, y, z) {
+            return None;
+        }
+        d.push(x);
+        f.push(y);
+        a.push(z);
+    }
+    (d.len() >= 2).then(|| CalibratedTable::from_knots(d, f, a, reached_border))
+}
+
+/// A knot `(x, y, z)` that may follow the depths `d`: finite, deeper.
+fn knot_ok(d: &[f64], x: f64, y: f64, z: f64) -> bool {
+    x.is_finite() && y.is_finite() && z.is_finite() && d.last().is_none_or(|&l| x > l)
+}
+
+fn encode(t: &CalibratedTable, field: &BinnedField, key: u64) -> Vec<u8> {
+    let mut out = Vec::new();
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&key.to_le_bytes());
+    out.push(u8::from(t.reached_border));
+    out.extend_from_slice(&(t.depth.len() as u64).to_le_bytes());
+    for (d, f, a) in t.knots() {
+        for v in [d, f, a] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    out.extend_from_slice(&field.bin_size().to_le_bytes());
+    for k in 0..field.knots() {
+        let bins: Vec<_> = field.bins(k).collect();
+        out.extend_from_slice(&(bins.len() as u32).to_le_bytes());
+        for (index, force, moment) in bins {
+            out.extend_from_slice(&index.to_le_bytes());
+            for v in [force, moment[0], moment[1]] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let mut h = Fnv::new();
+    h.bytes(&out);
+    out.extend_from_slice(&h.0.to_le_bytes());
+    out
+}
+
+/// Reads the bytes of a file front to back; `None` past its end.
+struct Reader<'a> {
+    bytes: &'a [u8],
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        if n > self.bytes.len() {
+            return None;
+        }
+        let (head, rest) = self.bytes.split_at(n);
+        self.bytes = rest;
+        Some(head)
+    }
+    fn u8(&mut self) -> Option<u8> {
+        Some(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Option<u32> {
+        Some(u32::from_le_bytes(self.take(4)?.try_into().ok()?))
+    }
+    fn u64(&mut self) -> Option<u64> {
+        Some(u64::from_le_bytes(self.take(8)?.try_into().ok()?))
+    }
+    fn f64(&mut self) -> Option<f64> {
+        Some(f64::from_le_bytes(self.take(8)?.try_into().ok()?))
+    }
+    /// A count of records of `size` bytes that the rest of the file can
+    /// hold (a corrupt count must not size an allocation).
+    fn count(&mut self, n: u64, size: usize) -> Option<usize> {
+        let n = usize::try_from(n).ok()?;
+        (n <= self.bytes.len() / size).then_some(n)
+    }
+}
+
+fn decode(bytes: &[u8], key: u64) -> Option<CalibratedTable> {
+    let (payload, sum) = bytes.split_at(bytes.len().checked_sub(8)?);
+    let mut h = Fnv::new();
+    h.bytes(payload);
+    if h.0.to_le_bytes() != sum {
+        return None;
+    }
+    let mut r = Reader { bytes: payload };
+    if r.take(MAGIC.len())? != MAGIC || r.u64()? != key {
+        return None;
+    }
+    let reached_border = match r.u8()? {
+        0 => false,
+        1 => true,
+        _ => return None,
+    };
+    let n = r.u64()?;
+    let n = r.count(n, 24)?;
+    let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..n {
+        let (x, y, z) = (r.f64()?, r.f64()?, r.f64()?);
+        if !knot_ok(&d, x, y, z) {
+            return None;
+        }
+        d.push(x);
+        f.push(y);
+        a.push(z);
+    }
+    let bin = r.f64()?;
+    let mut knots = Vec::with_capacity(n);
+    for _ in 0..n {
+        let m = r.u32()?;
+        let m = r.count(u64::from(m), 28)?;
+        let mut bins = Vec::with_capacity(m);
+        for _ in 0..m {
+            bins.push((r.u32()?, r.f64()?, [r.f64()?, r.f64()?]));
+        }
+        knots.push(bins);
+    }
+    if !r.bytes.is_empty() || d.len() < 2 {
+        return None;
+    }
+    let field = BinnedField::from_bins(bin, knots)?;
+    let mut table = CalibratedTable::from_knots(d, f, a, reached_border);
+    table.field = Some(field);
+    Some(table)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::super::{CacheCounts, CalibrationOptions, Calibrator, CapPatch};
+    use super::*;
+    use crate::contact_law::Material;
+
+    fn material() -> Material {
+        Material::new(6.54e6, 0.5).unwrap()
+    }
+
+    /// A paraboloid R = 5 mm on 0.1 mm cells: a few ms of BEM.
+    fn cap() -> CapPatch {
+        CapPatch::from_fn(21, 1e-4, |x, y| -(x * x + y * y) / 1e-2).unwrap()
+    }
+
+    const DEPTH: f64 = 0.1e-3;
+
+    fn calibrator(dir: &Path, fields: bool) -> Calibrator {
+        let c = Calibrator::new(material(), CalibrationOptions::default()).with_disk_cache(dir);
+        if fields { c.with_fields() } else { c }
+    }
+
+    /// The knots and the fields: all of a table but its solve statistics
+    /// (which a table read from disk does not have).
+    fn same_table(a: &CalibratedTable, b: &CalibratedTable) -> bool {
+        a.knots().eq(b.knots()) && a.field() == b.field() && a.reached_border == b.reached_border
+    }
+
+    fn the_fields_file(dir: &Path) -> PathBuf {
+        let files: Vec<PathBuf> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "fields"))
+            .collect();
+        assert_eq!(files.len(), 1, "{files:?}");
+        files[0].clone()
+    }
+
+    #[test]
+    fn a_second_calibration_with_fields_reads_the_same_table_from_disk() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = calibrator(dir.path(), true);
+        let solved = first.law(&cap(), DEPTH).unwrap();
+        assert_eq!(first.counts().solved, 1);
+        assert!(solved.table().field().is_some_and(|f| f.knots() > 2));
+        let second = calibrator(dir.path(), true);
+        let read = second.law(&cap(), DEPTH).unwrap();
+        assert_eq!(
+            second.counts(),
+            CacheCounts {
+                solved: 0,
+                memory_hits: 0,
+                disk_hits: 1
+            }
+        );
+        assert!(same_table(solved.table(), read.table()));
+        // Bit for bit: the law and the field at a depth between knots.
+        for d in [0.013e-3, 0.05e-3, 0.0999e-3] {
+            assert_eq!(solved.table().force_at(d), read.table().force_at(d));
+            assert_eq!(solved.unit_field(d), read.unit_field(d));
+        }
+        // Fields on or off is part of the key: a calibrator without fields
+        // solves its own table (and one with fields never takes a
+        // field-less file), each then found by its own kind.
+        let plain = calibrator(dir.path(), false);
+        let without = plain.law(&cap(), DEPTH).unwrap();
+        assert_eq!(plain.counts().solved, 1);
+        assert!(without.table().field().is_none());
+        assert!(without.table().knots().eq(solved.table().knots()));
+        let again = calibrator(dir.path(), false);
+        again.law(&cap(), DEPTH).unwrap();
+        assert_eq!(again.counts().disk_hits, 1);
+        let with = calibrator(dir.path(), true);
+        assert!(with.law(&cap(), DEPTH).unwrap().table().field().is_some());
+        assert_eq!(with.counts().disk_hits, 1);
+    }
+
+    #[test]
+    fn a_truncated_or_corrupt_fields_file_is_solved_again_never_half_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let reference = calibrator(dir.path(), true).law(&cap(), DEPTH).unwrap();
+        let file = the_fields_file(dir.path());
+        let good = std::fs::read(&file).unwrap();
+        let key = u64::from_le_bytes(good[8..16].try_into().unwrap());
+        // Every truncation and every flipped byte is refused, none panics.
+        assert!(decode(&good, key).is_some());
+        for n in 0..good.len() {
+            assert!(decode(&good[..n], key).is_none(), "truncated to {n} bytes");
+        }
+        for at in 0..good.len() {
+            let mut bad = good.clone();
+            bad[at] ^= 0x20;
+            assert!(decode(&bad, key).is_none(), "byte {at} flipped");
+        }
+        // Another table's file under this name (its key inside differs).
+        assert!(decode(&good, key ^ 1).is_none());
+        // Through the calibrator: each damage is a recompute, the table
+        // the one solved first, and the file rewritten whole.
+        let damages: [(&str, Vec<u8>); 4] = [
+            ("empty", Vec::new()),
+            ("half", good[..good.len() / 2].to_vec()),
+            ("flipped", {
+                let mut b = good.clone();
+                b[good.len() / 3] ^= 1;
+                b
+            }),
+            ("text", b"depth_m,force_n,area_m2\n1e-5,1,1\n".to_vec()),
+        ];
+        for (what, bytes) in damages {
+            std::fs::write(&file, bytes).unwrap();
+            let c = calibrator(dir.path(), true);
+            let law = c.law(&cap(), DEPTH).unwrap();
+            assert_eq!(c.counts().solved, 1, "{what}");
+            assert_eq!(c.counts().disk_hits, 0, "{what}");
+            assert!(same_table(law.table(), reference.table()), "{what}");
+            assert!(decode(&std::fs::read(&file).unwrap(), key).is_some());
+        }
+    }
+
+    #[test]
+    fn bins_out_of_order_or_not_finite_make_no_field() {
+        let ok = vec![vec![(1, 1.0, [0.0, 0.0]), (3, 2.0, [1e-3, 0.0])]];
+        assert!(BinnedField::from_bins(1e-4, ok.clone()).is_some());
+        assert!(BinnedField::from_bins(0.0, ok.clone()).is_none());
+        assert!(BinnedField::from_bins(f64::NAN, ok).is_none());
+        for bad in [
+            vec![(3, 1.0, [0.0, 0.0]), (1, 2.0, [0.0, 0.0])],
+            vec![(1, 0.0, [0.0, 0.0])],
+            vec![(1, 1.0, [f64::INFINITY, 0.0])],
+        ] {
+            assert!(BinnedField::from_bins(1e-4, vec![bad]).is_none());
+        }
+    }
+}
