@@ -24,7 +24,7 @@
 //! spread, placed at its contact point, instead of the law's Hertz or cone
 //! disc ([`crate::Sensor::share_spread`]).
 
-use tyreroad_multipoint::{PairCorrection, Problem};
+use tyreroad_multipoint::{PairCorrection, Problem, SolveError};
 
 /// The state of one step that a correction is computed from.
 #[derive(Debug)]
@@ -87,3 +87,75 @@ pub trait StepCoupling<L>: Sync {
 /// A step's correction kept for the next step's warm start, by road-local
 /// ids.
 pub(crate) type KeptCorrection = Vec<(usize, usize, f64)>;
+
+/// The damping of a coupled step's fixed point, shared by the elastic
+/// step and the viscoelastic one (docs/rolling.md, "Coupled steps"): from
+/// round [`FixedPointDamping::WHOLE_ROUNDS`] + 1 on, a relaxed correction
+/// `(1 − β) C_used + β C(δ)`, β halved (down to 1/16) whenever a round did
+/// not halve the change. Two contacts whose patches overlap can make the
+/// plain iteration cycle; the blend keeps the same fixed point (where
+/// `C(δ)` is the `C` solved with) and damps the cycle.
+#[derive(Clone, Copy, Debug)]
+pub struct FixedPointDamping {
+    previous: f64,
+    weight: f64,
+}
+
+impl Default for FixedPointDamping {
+    fn default() -> Self {
+        Self {
+            previous: f64::INFINITY,
+            weight: 1.0,
+        }
+    }
+}
+
+impl FixedPointDamping {
+    /// Rounds taken whole before each new correction is blended.
+    pub const WHOLE_ROUNDS: usize = 4;
+
+    /// Round `round`'s correction `c`, blended with `used` (the one last
+    /// solved with) once the whole rounds are spent; `n` asperities.
+    ///
+    /// # Errors
+    /// A blend that is not a valid correction (cannot happen for two valid
+    /// ones of `n` asperities).
+    pub fn relax(
+        &self,
+        round: usize,
+        used: &PairCorrection,
+        c: PairCorrection,
+        n: usize,
+    ) -> Result<PairCorrection, SolveError> {
+        if round <= Self::WHOLE_ROUNDS {
+            return Ok(c);
+        }
+        let beta = self.weight;
+        let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
+        for (&(i, j, v), w) in used
+            .pairs()
+            .iter()
+            .map(|p| (p, 1.0 - beta))
+            .chain(c.pairs().iter().map(|p| (p, beta)))
+        {
+            *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += w * v;
+        }
+        PairCorrection::new(n, sum.into_iter().map(|((i, j), v)| (i, j, v)).collect())
+    }
+
+    /// The round's change, `max_i |next_i − last_i| / scale`, recorded to
+    /// set the next rounds' weight.
+    pub fn change(&mut self, round: usize, next: &[f64], last: &[f64], scale: f64) -> f64 {
+        let change = next
+            .iter()
+            .zip(last)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        if round >= Self::WHOLE_ROUNDS && change > 0.5 * self.previous {
+            self.weight = (0.5 * self.weight).max(1.0 / 16.0);
+        }
+        self.previous = change;
+        change
+    }
+}

@@ -132,7 +132,7 @@ mod tread;
 
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
-pub use coupling::{CouplingState, Spread, StepCoupling};
+pub use coupling::{CouplingState, FixedPointDamping, Spread, StepCoupling};
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
 };

@@ -8,7 +8,7 @@ use tyreroad_multipoint::{
     SolverOptions, overlapping_contacts, solve_corrected, solve_from,
 };
 
-use crate::coupling::{CouplingState, KeptCorrection, StepCoupling};
+use crate::coupling::{CouplingState, FixedPointDamping, KeptCorrection, StepCoupling};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
     deformation_slopes,
@@ -568,9 +568,8 @@ fn fixed_point<'r, L: ContactLaw + Sync>(
     };
     let mut offsets = offsets_of(problem);
     let mut change = f64::INFINITY;
-    let mut previous = f64::INFINITY;
+    let mut damping = FixedPointDamping::default();
     let mut used = warm.clone();
-    let mut weight = 1.0;
     for round in 1..=coupling.max_rounds() {
         // The deformed tread's slopes follow the last round's forces; the
         // contact points, gaps and kernel move with them.
@@ -589,35 +588,23 @@ fn fixed_point<'r, L: ContactLaw + Sync>(
             depths: &s.depths,
             forces: &s.forces,
         };
-        let mut c = coupling.correction(&state).map_err(|m| {
+        let c = coupling.correction(&state).map_err(|m| {
             RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
         })?;
-        // From round DAMPED_AFTER + 1 on, a relaxed step `(1 − β) C_used +
-        // β C(δ)`, β halved (down to 1/16) whenever a round did not halve
-        // the change: two contacts whose patches overlap can make the
-        // plain iteration cycle; the blend keeps the same fixed point
-        // (where C(δ) is the C solved with) and damps the cycle.
-        if round > DAMPED_AFTER {
-            c = blend(&used, &c, weight, problem.len(), xc)?;
-        }
+        let c = damping
+            .relax(round, &used, c, problem.len())
+            .map_err(|source| RollingError::Solve {
+                position: xc,
+                source,
+            })?;
         let next = match solve_corrected(problem, control, options, Some(&s), &c) {
             Ok(next) => next,
             Err(e) => return Ok(Err(e)),
         };
         iterations += next.iterations;
         used = c;
-        change = next
-            .forces
-            .iter()
-            .zip(&s.forces)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max)
-            / scale;
+        change = damping.change(round, &next.forces, &s.forces, scale);
         s = next;
-        if round >= DAMPED_AFTER && change > 0.5 * previous {
-            weight = (0.5 * weight).max(1.0 / 16.0);
-        }
-        previous = change;
         if change <= coupling.tolerance() {
             coupling.settled(round);
             s.iterations = iterations;
@@ -736,36 +723,6 @@ fn settle_slopes<'r, L: ContactLaw + Sync>(
         load_steps: 0,
         residual: change,
     }))
-}
-
-/// Rounds of a coupled step's fixed point taken whole before each new
-/// correction is blended with the one last solved with.
-const DAMPED_AFTER: usize = 4;
-
-/// `(1 − β) a + β b` pair by pair (a pair missing from one counts 0
-/// there), for a problem of `n` asperities.
-fn blend(
-    a: &PairCorrection,
-    b: &PairCorrection,
-    beta: f64,
-    n: usize,
-    xc: f64,
-) -> Result<PairCorrection, RollingError> {
-    let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
-    for (&(i, j, c), w) in a
-        .pairs()
-        .iter()
-        .map(|p| (p, 1.0 - beta))
-        .chain(b.pairs().iter().map(|p| (p, beta)))
-    {
-        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += w * c;
-    }
-    PairCorrection::new(n, sum.into_iter().map(|((i, j), c)| (i, j, c)).collect()).map_err(
-        |source| RollingError::Solve {
-            position: xc,
-            source,
-        },
-    )
 }
 
 /// The record of a step whose solve failed: NaN values, no contacts.

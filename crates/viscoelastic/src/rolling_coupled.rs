@@ -51,7 +51,8 @@ use tyreroad_multipoint::{
     Control, PairCorrection, Par, Problem, Solution, SolveError, SolverOptions, solve_corrected,
 };
 use tyreroad_rolling::{
-    CouplingState, Road, RollingConfig, RollingError, StepCoupling, StepRecord, contact_point,
+    CouplingState, FixedPointDamping, Road, RollingConfig, RollingError, StepCoupling, StepRecord,
+    contact_point,
 };
 
 use super::{Runner, ViscoRollOptions, ViscoRolling, roll_with, warm_start};
@@ -93,11 +94,6 @@ pub(super) struct Step<'s> {
     /// The tread's profile at the window's edge (m), for the clearance.
     pub(super) boundary: f64,
 }
-
-/// Rounds of a coupled step's fixed point taken whole before each new
-/// correction is blended with the one last solved with (as the elastic
-/// coupled step).
-const DAMPED_AFTER: usize = 4;
 
 /// A coupled step's fixed frame: the selection at its contact points, its
 /// gaps raised by the memory through the point kernel, the memory drivers
@@ -259,8 +255,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             .zip(frame.points)
             .map(|(&i, p)| [p[0] - summits[i][0], p[1] - summits[i][1]])
             .collect();
-        let (mut used, mut change, mut previous, mut weight) =
-            (warm.clone(), f64::INFINITY, f64::INFINITY, 1.0);
+        let (mut used, mut change, mut damping) =
+            (warm.clone(), f64::INFINITY, FixedPointDamping::default());
         for round in 1..=coupling.max_rounds() {
             // The displacement's drivers, `E_eff w = p − h`.
             let drivers: Vec<f64> = s
@@ -285,9 +281,9 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 })?;
             // The elastic step's damping (docs/rolling.md, "Coupled steps"):
             // the same fixed point, cycles between overlapping patches damped.
-            if round > DAMPED_AFTER {
-                c_ref = blend(&used, &c_ref, weight, frame.ids.len()).map_err(solve_error)?;
-            }
+            c_ref = damping
+                .relax(round, &used, c_ref, frame.ids.len())
+                .map_err(solve_error)?;
             let (problem, c) = self.frame_problem(frame, &c_ref).map_err(solve_error)?;
             let next = match solve_corrected(&problem, step.control, &options, Some(&s), &c) {
                 Ok(next) => next,
@@ -295,18 +291,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             };
             iterations += next.iterations;
             used = c_ref;
-            change = next
-                .forces
-                .iter()
-                .zip(&s.forces)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max)
-                / scale;
+            change = damping.change(round, &next.forces, &s.forces, scale);
             s = next;
-            if round >= DAMPED_AFTER && change > 0.5 * previous {
-                weight = (0.5 * weight).max(1.0 / 16.0);
-            }
-            previous = change;
             if change <= coupling.tolerance() {
                 coupling.settled(round);
                 s.iterations = iterations;
@@ -409,23 +395,4 @@ fn scaled(c: &PairCorrection, ratio: f64, n: usize) -> Result<PairCorrection, So
             .map(|&(i, j, v)| (i, j, ratio * v))
             .collect(),
     )
-}
-
-/// `(1 − β) a + β b` pair by pair (a pair missing from one counts 0 there).
-fn blend(
-    a: &PairCorrection,
-    b: &PairCorrection,
-    beta: f64,
-    n: usize,
-) -> Result<PairCorrection, SolveError> {
-    let mut sum: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
-    for (&(i, j, c), w) in a
-        .pairs()
-        .iter()
-        .map(|p| (p, 1.0 - beta))
-        .chain(b.pairs().iter().map(|p| (p, beta)))
-    {
-        *sum.entry((i.min(j), i.max(j))).or_insert(0.0) += w * c;
-    }
-    PairCorrection::new(n, sum.into_iter().map(|((i, j), c)| (i, j, c)).collect())
 }
