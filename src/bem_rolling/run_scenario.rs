@@ -11,6 +11,7 @@ use crate::fidelity::rolling_fields::{
 use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
 use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult, run_calibrated_fields};
+use crate::shared::spectrum::MIN_SPECTRUM_SAMPLES;
 use crate::shared::{Field, Par};
 use crate::texture::HeightMap;
 use crate::texture_road::texture_road;
@@ -151,6 +152,7 @@ pub fn run_scenario_comparison_against(
     };
     let map = texture.height_map(base_dir)?;
     let (segment, reference_force) = cut_to_stretch(&mut scenario, stretch)?;
+    check_spectral_stretch(&scenario, segment)?;
     let run_options = RunOptions {
         par: Some(par),
         ..RunOptions::new(base_dir)
@@ -387,6 +389,29 @@ pub(super) fn cut_to_stretch(
         spec.segment,
         spec.reference_force.map_or(1.0, |f| f.value()),
     ))
+}
+
+/// Refuses a cut scenario whose stretch or Welch segment is too short for
+/// the comparison's spectra, before anything is calibrated or solved: the
+/// spectra come last, after minutes of BEM steps, and a run that can only
+/// fail there must fail at once.
+pub(super) fn check_spectral_stretch(
+    scenario: &Scenario,
+    segment: Option<usize>,
+) -> Result<(), BemRollingError> {
+    let config = scenario.rolling_config()?;
+    let (steps, min) = (config.steps(), MIN_SPECTRUM_SAMPLES);
+    if steps < min {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the stretch has {steps} step(s): the comparison's spectra need at least {min}"
+        )));
+    }
+    match segment {
+        Some(s) if s < min => Err(BemRollingError::InvalidInput(format!(
+            "Welch segment of {s} sample(s): the comparison's spectra need at least {min}"
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// `saved` if it holds the steps of `run` (count and footprint positions,

@@ -17,7 +17,7 @@ use crate::scenario::{RollingRun, RunOptions, Scenario, ViscoCase};
 use crate::shared::Par;
 use crate::viscoelastic::Prony;
 
-use super::run_scenario::{cut_to_stretch, texture_field};
+use super::run_scenario::{check_spectral_stretch, cut_to_stretch, texture_field};
 use super::{
     BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, Stretch, compare,
     roll_visco_bem,
@@ -77,6 +77,7 @@ pub fn run_visco_scenario_comparison(
         ));
     };
     let (segment, reference_force) = cut_to_stretch(&mut scenario, stretch)?;
+    check_spectral_stretch(&scenario, segment)?;
     let run_options = RunOptions {
         par: Some(par),
         ..RunOptions::new(base_dir)

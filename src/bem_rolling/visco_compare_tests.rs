@@ -162,3 +162,46 @@ fn a_scenario_without_a_viscoelastic_tread_is_refused() {
         "{error}"
     );
 }
+
+/// A stretch too short for a spectrum used to fail only in the spectra,
+/// after every step had been solved by the model and the BEM: both
+/// comparisons now refuse it (and a too-short Welch segment) up front.
+#[test]
+fn a_stretch_too_short_for_the_spectra_is_refused_before_solving() {
+    let dir: &std::path::Path = env!("CARGO_MANIFEST_DIR").as_ref();
+    let short = Stretch {
+        steps: Some(3),
+        ..Stretch::default()
+    };
+    let tiny_segment = Stretch {
+        segment: Some(3),
+        ..Stretch::default()
+    };
+    for stretch in [short, tiny_segment] {
+        let visco = run_visco_scenario_comparison(
+            scenario(VISCO),
+            dir,
+            stretch,
+            None,
+            Par::Seq,
+            &options(),
+        )
+        .expect_err("too short for a spectrum");
+        let elastic = crate::bem_rolling::run_scenario_comparison(
+            scenario(&elastic("6.54 MPa")),
+            dir,
+            stretch,
+            Par::Seq,
+            &options(),
+        )
+        .expect_err("too short for a spectrum");
+        // The up-front check's words, not the spectrum's own error (which
+        // also says "at least 4", but only after every step was solved).
+        for error in [visco.to_string(), elastic.to_string()] {
+            assert!(
+                error.contains("the comparison's spectra need at least 4"),
+                "{error}"
+            );
+        }
+    }
+}

@@ -14,6 +14,10 @@ use realfft::RealFftPlanner;
 use crate::CoreError;
 use crate::validate::positive;
 
+/// The fewest samples (and the shortest Welch segment) a spectrum is
+/// computed from: a Hann window of fewer has no interior point to weigh.
+pub const MIN_SPECTRUM_SAMPLES: usize = 4;
+
 /// Nominal mid-band frequencies (Hz) of the bands `k = −17 … 10`
 /// (20 Hz … 10 kHz), IEC 61260-1 / ISO 266.
 pub const NOMINAL_CENTRES: [f64; 28] = [
@@ -134,7 +138,7 @@ pub fn welch(
     detrend: bool,
 ) -> Result<Psd, CoreError> {
     positive("sample rate (Hz)", sample_rate)?;
-    if signal.len() < 4 || segment_len < 4 {
+    if signal.len() < MIN_SPECTRUM_SAMPLES || segment_len < MIN_SPECTRUM_SAMPLES {
         return Err(CoreError::InvalidShape {
             name: "spectrum input",
             message: format!(
