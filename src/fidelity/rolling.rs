@@ -77,6 +77,38 @@ pub fn selectable(positions: &[[f64; 2]], config: &RollingConfig) -> Vec<usize> 
         .collect()
 }
 
+/// For each asperity `indices[k]` of `road` (rolling frame), the smallest
+/// gap (m) the tread's undeformed profile leaves it anywhere on
+/// `config`'s path: the contact-point gap of [`crate::rolling::Tread`] at
+/// the footprint centre nearest the asperity along the path (`ξ` clamped to
+/// the path's ends; a tyre's gap grows with `|ξ|`), across at its fixed
+/// lateral offset. Zero under a block or where the tread has no profile.
+///
+/// It bounds how deep the asperity can be pressed: `δ_i = δ0 − (z_top −
+/// z_i) − s_i − u_i` with `s_i` at least this lift and the other contacts'
+/// displacement `u_i ≥ 0`. The deformed slope (`ContactSlope::Deformed`)
+/// can lower a gap below the profile's by `½ (σ_u² + 2 σ_s σ_u) R`, micrometres
+/// for the slopes `σ_u` of neighbouring contacts, far inside the approach
+/// margin the tables already carry.
+pub fn profile_lifts(
+    road: &rolling::Road<TextureLaw>,
+    config: &RollingConfig,
+    indices: &[usize],
+) -> Vec<f64> {
+    let (lo, hi) = (config.start.min(config.end), config.start.max(config.end));
+    indices
+        .iter()
+        .map(|&i| {
+            let [x, y] = road.positions()[i];
+            let xi = x - x.clamp(lo, hi);
+            config
+                .tread
+                .contact_gap(xi, y - config.lateral, road.summit_radius(i))
+                .map_or(0.0, |(gap, _)| gap.max(0.0))
+        })
+        .collect()
+}
+
 /// The largest approach (m) of `road` (Wilke laws) over nine
 /// evenly spaced steps of `config`'s path.
 ///
@@ -142,8 +174,9 @@ pub fn calibrate_rolling_road(
             "a path whose footprints cover at least one asperity",
         ));
     }
+    let lifts = profile_lifts(wilke, config, &kept);
     let laws = run_at(par, || {
-        calibrated_laws(road, map, max_approach, calibrator, &kept)
+        calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts)
     })?;
     let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
     let heights = kept.iter().map(|&i| wilke.heights()[i]).collect();

@@ -107,7 +107,7 @@ pub fn calibrated_set(
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
-    let laws = calibrated_laws(road, map, max_approach, calibrator, &all)?;
+    let laws = calibrated_laws(road, map, max_approach, calibrator, &all, &[])?;
     AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),
@@ -118,7 +118,12 @@ pub fn calibrated_set(
 
 /// The calibrated laws of the road's asperities `indices` (indices into
 /// `road.set`), tabulated as in [`calibrated_set`], in parallel on rayon's
-/// current pool.
+/// current pool. `lifts` (m, one per index, or empty for none) is how far
+/// the tread's profile at least keeps each asperity from the approach
+/// (a rolling path: [`super::rolling::profile_lifts`]); a lifted asperity
+/// can only be pressed `max_approach − (top − z_i) − lift_i` deep, so its
+/// table stops there (with the same floor) instead of paying for depths
+/// the run cannot reach.
 ///
 /// # Errors
 /// As [`calibrated_set`]; [`FidelityError::InvalidInput`] for an index out
@@ -129,7 +134,22 @@ pub(crate) fn calibrated_laws(
     max_approach: f64,
     calibrator: &Calibrator,
     indices: &[usize],
+    lifts: &[f64],
 ) -> Result<Vec<CalibratedLaw>, FidelityError> {
+    if !(lifts.is_empty() || lifts.len() == indices.len()) {
+        return Err(FidelityError::invalid(
+            "profile lifts",
+            lifts.len(),
+            format!("none or one per asperity ({})", indices.len()),
+        ));
+    }
+    if let Some(bad) = lifts.iter().find(|l| !(l.is_finite() && **l >= 0.0)) {
+        return Err(FidelityError::invalid(
+            "profile lift",
+            bad,
+            "finite and ≥ 0 m",
+        ));
+    }
     if road.segmentation.size() != (map.nx(), map.ny()) {
         return Err(FidelityError::invalid(
             "height map",
@@ -147,7 +167,8 @@ pub(crate) fn calibrated_laws(
     let top = road.set.top();
     indices
         .par_iter()
-        .map(|&i| {
+        .enumerate()
+        .map(|(n, &i)| {
             let (Some(&k), Some(&z)) = (road.asperity_index.get(i), road.set.heights().get(i))
             else {
                 return Err(FidelityError::invalid(
@@ -157,7 +178,8 @@ pub(crate) fn calibrated_laws(
                 ));
             };
             let a = &road.segmentation.asperities()[k];
-            let depth = (max_approach - (top - z)).max(0.1 * max_approach);
+            let lift = lifts.get(n).copied().unwrap_or(0.0);
+            let depth = (max_approach - (top - z) - lift).max(0.1 * max_approach);
             let patch = cap_patch(map, a, depth)?;
             // The top cell may lie below a refined summit: the table must
             // reach past it.
