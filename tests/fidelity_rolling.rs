@@ -6,7 +6,9 @@
 #![allow(clippy::unwrap_used)]
 
 use tyreroad::contact_law::{ContactLaw, HertzLaw, Material};
-use tyreroad::fidelity::rolling::{calibrate_rolling_road, profile_lifts, selectable};
+use tyreroad::fidelity::rolling::{
+    PastTables, calibrate_rolling_road, contacts_past_tables, profile_lifts, selectable,
+};
 use tyreroad::fidelity::{CalibrationOptions, Calibrator};
 use tyreroad::multipoint::AsperitySet;
 use tyreroad::rolling::{
@@ -272,6 +274,21 @@ fn a_cap_the_tyre_lifts_is_tabulated_only_as_deep_as_the_path_presses_it() -> Te
             h.approach
         );
     }
+    assert_eq!(
+        contacts_past_tables(&cal_road, &run_cal),
+        PastTables::default()
+    );
+    // Ten times the load the tables were sized for: the middle cap goes
+    // past its table at every step, and the run says so.
+    let mut heavy = config.clone();
+    heavy.control = RollingControl::Load(10.0 * LOAD);
+    let run_heavy = roll(&cal_road, m, &heavy, &options)?;
+    let past = contacts_past_tables(&cal_road, &run_heavy);
+    assert_eq!(past.steps, run_heavy.steps.len(), "{past:?}");
+    assert!(
+        past.contacts >= past.steps && past.worst_ratio > 1.5,
+        "{past:?}"
+    );
     Ok(())
 }
 

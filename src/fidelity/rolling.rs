@@ -109,6 +109,49 @@ pub fn profile_lifts(
         .collect()
 }
 
+/// The contacts of a rolling run on calibrated laws that were pressed past
+/// their tables ([`contacts_past_tables`]). Beyond its last knot a law
+/// continues linearly with its last slope: a force there is the table's
+/// guess, not a BEM solve, so a run says how often it happened.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PastTables {
+    /// Steps with at least one such contact.
+    pub steps: usize,
+    /// Such contacts, counted over every step.
+    pub contacts: usize,
+    /// The largest contact force over the force at its table's last knot
+    /// (0 when no contact went past its table).
+    pub worst_ratio: f64,
+}
+
+/// Counts the contacts of `result` (a run on `road`) whose force exceeds
+/// the force at their law's last tabulated depth. The tables are sized to
+/// cover a run (`1.3 ×` the Wilke model's largest approach, less each cap's
+/// profile lift): on the fixtures none is passed; a road where the
+/// calibrated approach runs more than 30 % deeper than the Wilke one's
+/// shows here.
+pub fn contacts_past_tables(
+    road: &rolling::Road<CalibratedLaw>,
+    result: &rolling::RollingResult,
+) -> PastTables {
+    let laws = road.laws();
+    let mut past = PastTables::default();
+    for step in &result.steps {
+        let mut any = false;
+        for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
+            let Some(law) = laws.get(id) else { continue };
+            let last = law.table().knots().last().map_or(0.0, |(_, f, _)| f);
+            if last > 0.0 && force > last * (1.0 + 1e-9) {
+                any = true;
+                past.contacts += 1;
+                past.worst_ratio = past.worst_ratio.max(force / last);
+            }
+        }
+        past.steps += usize::from(any);
+    }
+    past
+}
+
 /// The largest approach (m) of `road` (Wilke laws) over nine
 /// evenly spaced steps of `config`'s path.
 ///

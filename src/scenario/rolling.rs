@@ -156,7 +156,8 @@ pub(crate) fn rolling_on_road(
         match scenario.model.fidelity()? {
             Fidelity::Calibrated => {
                 let (road, summary) = calibrated_road(scenario, spec, options, texture, false)?;
-                return roll_road(scenario, &road, summary, material, spec, options, what);
+                let rolled = roll_road(scenario, &road, summary, material, spec, options, what)?;
+                return Ok(count_past_tables(rolled, &road));
             }
             Fidelity::CalibratedFields => {
                 return Ok(roll_with_fields(scenario, spec, options, texture, what)?.0);
@@ -357,7 +358,22 @@ pub(super) fn roll_with_fields(
         options,
         what,
     )?;
-    Ok((rolled, road, coupling.stats()))
+    Ok((count_past_tables(rolled, &road), road, coupling.stats()))
+}
+
+/// A whole run on calibrated laws says how many of its contacts went past
+/// their tables ([`crate::fidelity::rolling::contacts_past_tables`]).
+fn count_past_tables(rolled: Rolled, road: &rolling::Road<CalibratedLaw>) -> Rolled {
+    let Rolled::Run(mut run) = rolled else {
+        return rolled;
+    };
+    let past = crate::fidelity::rolling::contacts_past_tables(road, &run.result);
+    if let RoadSummary::Texture(t) = &mut run.road
+        && let Some(cal) = &mut t.calibration
+    {
+        cal.past_tables = past;
+    }
+    Rolled::Run(run)
 }
 
 fn run_on<L: ContactLaw + Sync>(

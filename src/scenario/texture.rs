@@ -14,7 +14,7 @@ use super::statics::{StaticResult, run_static_problem, run_static_problem_with, 
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
 use crate::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
-use crate::fidelity::rolling::calibrate_rolling_road;
+use crate::fidelity::rolling::{PastTables, calibrate_rolling_road};
 use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, Coupling, FidelityError, LawSource,
     calibrated_set,
@@ -56,6 +56,9 @@ pub struct CalibrationSummary {
     pub max_approach: f64,
     /// Wall time of the approach bound and the calibration.
     pub time: std::time::Duration,
+    /// Contacts the run pressed past their tables (filled once the whole
+    /// run is rolled; zero for a part of a distributed run).
+    pub past_tables: PastTables,
 }
 
 impl TextureSummary {
@@ -346,6 +349,7 @@ pub(crate) fn calibrated_texture_road_set_with(
         from_disk: calibrated.counts.disk_hits,
         max_approach: calibrated.max_approach,
         time: calibrated.time,
+        past_tables: PastTables::default(),
     });
     Ok((calibrated.set, summary, radii))
 }
