@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 
+use super::under_tread::CapShape;
 use super::{CalibratedLaw, Calibrator, CapPatch, FidelityError};
 use crate::multipoint::AsperitySet;
 use crate::texture::{Asperity, HeightMap};
@@ -107,7 +108,10 @@ pub fn calibrated_set(
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
-    let laws = calibrated_laws(road, map, max_approach, calibrator, &all)?;
+    let laws = calibrated_laws(road, map, max_approach, calibrator, &all, &CapShape::Flat)?
+        .into_iter()
+        .map(|(law, _)| law)
+        .collect();
     AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),
@@ -118,7 +122,8 @@ pub fn calibrated_set(
 
 /// The calibrated laws of the road's asperities `indices` (indices into
 /// `road.set`), tabulated as in [`calibrated_set`], in parallel on rayon's
-/// current pool.
+/// current pool, each cap under `shape` (with how far its asperity is
+/// lifted, [`super::under_tread`]).
 ///
 /// # Errors
 /// As [`calibrated_set`]; [`FidelityError::InvalidInput`] for an index out
@@ -129,7 +134,8 @@ pub(crate) fn calibrated_laws(
     max_approach: f64,
     calibrator: &Calibrator,
     indices: &[usize],
-) -> Result<Vec<CalibratedLaw>, FidelityError> {
+    shape: &CapShape,
+) -> Result<Vec<(CalibratedLaw, f64)>, FidelityError> {
     if road.segmentation.size() != (map.nx(), map.ny()) {
         return Err(FidelityError::invalid(
             "height map",
@@ -158,11 +164,12 @@ pub(crate) fn calibrated_laws(
             };
             let a = &road.segmentation.asperities()[k];
             let depth = (max_approach - (top - z)).max(0.1 * max_approach);
-            let patch = cap_patch(map, a, depth)?;
+            let shaped = shape.patch(map, a, i, depth)?;
+            let patch = shaped.patch;
             // The top cell may lie below a refined summit: the table must
             // reach past it.
             let depth = depth.max(2.0 * patch.summit_offset());
-            calibrator.law(&patch, depth)
+            Ok((calibrator.law(&patch, depth)?, shaped.lift))
         })
         .collect()
 }

@@ -11,6 +11,7 @@ use super::ranges::*;
 use super::rolling_spec::{RollingSpec, TreadSpec};
 use super::spec::{Scenario, ShapeSpec, SynthSpec};
 use crate::fidelity::Fidelity;
+use crate::fidelity::under_tread::CalibrateUnder;
 
 /// Checks that the sections name one road, then every value of `scenario`
 /// (see the module doc).
@@ -464,6 +465,19 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
             "[model] fidelity",
             format!("{:?}", fidelity.name()),
             expected,
+        ));
+    }
+    // A tread to calibrate under exists only in a rolling run on a
+    // texture's calibrated laws.
+    if scenario.model.calibrate_under()? == CalibrateUnder::Tread
+        && !(rolling_texture
+            && matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields))
+    {
+        return Err(bad(
+            "[model] calibrate_under",
+            "\"tread\"",
+            "\"flat\" unless [model] fidelity is \"calibrated\" or \"calibrated_fields\" \
+             in a [rolling] run on a [texture]",
         ));
     }
     Ok(())
