@@ -296,7 +296,8 @@ mod tests {
 
     /// A paraboloid cap under the tyre's slope: its reshaped top is at the
     /// model's contact point, level with the law's zero (no lift), the
-    /// field's origin moved back by the model's offset.
+    /// field's origin moved back by the model's offset (which the step
+    /// adds again: the field lands where the tilted solve put it).
     #[test]
     fn a_paraboloid_under_a_sloping_tyre_first_touches_at_the_models_contact_point() {
         let r = 5e-3;
@@ -325,7 +326,7 @@ mod tests {
             .0;
         let dy = flat.origin[1] + (k / flat.nx) as f64 * flat.dy;
         assert!((dy - (-eta * r / (r + 0.5))).abs() <= half_cell, "{dy}");
-        assert!((out.patch.origin[1] - (flat.origin[1] - eta * r / (r + 0.5))).abs() < 1e-15);
+        assert!((out.patch.origin[1] - (flat.origin[1] + eta * r / (r + 0.5))).abs() < 1e-15);
     }
 
     /// A cap flatter across than its summit radius says touches before

@@ -538,6 +538,48 @@ mod tests {
         refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
     }
 
+    /// `[model] calibrate_under`: known names only, and `"tread"` only
+    /// where a tread meets calibrated caps (a rolling run on a texture's
+    /// calibrated laws).
+    #[test]
+    fn calibrate_under_names_its_values_and_needs_calibrated_rolling() {
+        let model = |body: &str| format!("[model]\n{body}\n\n[rolling]");
+        let rolling = |body: &str| ROLLING.replacen("[rolling]", &model(body), 1);
+        for fidelity in ["calibrated", "calibrated_fields"] {
+            let text = rolling(&format!(
+                "fidelity = \"{fidelity}\"\ncalibrate_under = \"tread\""
+            ));
+            let s = Scenario::parse(&text, "case").unwrap();
+            assert_eq!(
+                s.model.calibrate_under().unwrap(),
+                crate::fidelity::under_tread::CalibrateUnder::Tread
+            );
+        }
+        let flat = Scenario::parse(&rolling("calibrate_under = \"flat\""), "case").unwrap();
+        assert_eq!(
+            flat.model.calibrate_under().unwrap(),
+            crate::fidelity::under_tread::CalibrateUnder::Flat
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("fidelity = \"calibrated\"\ncalibrate_under = \"tilted\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("calibrate_under = \"tread\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            PAPER,
+            "[material]",
+            "[model]\ncalibrate_under = \"tread\"\n\n[material]",
+            "[model] calibrate_under",
+        );
+    }
+
     #[test]
     fn out_of_range_rolling_values_name_their_key() {
         refused(
