@@ -23,10 +23,10 @@
 //! touches (a paraboloid cap has `max c' = 0`: Hertz's law from its first
 //! contact). A real cap may touch earlier than the paraboloid formula
 //! says (`max c' = e > 0`): the asperity's height is then raised by `e`
-//! ([`TreadPatch::lift`]) and the patch lowered by it, so the gap the
-//! model computes is the cap's first contact; a lift that would take the
-//! asperity above the road's highest summit (the approach's reference) is
-//! capped there and the rest of the cap's top clipped.
+//! and the patch lowered by it, so the gap the model computes is the
+//! cap's first contact; a lift that would take the asperity above the
+//! highest calibrated summit (the approach's reference) is capped there
+//! and the rest of the cap's top clipped.
 //!
 //! The calibrated field is the pressure under the tilted tread, already
 //! off the summit across the path: the law's origin is moved back by the
