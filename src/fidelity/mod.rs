@@ -44,6 +44,7 @@ pub mod rolling;
 pub mod rolling_fields;
 pub mod segmentation;
 mod texture;
+pub mod under_tread;
 
 use std::fmt;
 use std::str::FromStr;

@@ -27,6 +27,7 @@ use std::time::{Duration, Instant};
 
 use super::compare::APPROACH_MARGIN;
 use super::texture::calibrated_laws;
+use super::under_tread::{CalibrateUnder, CapShape};
 use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError};
 use crate::multipoint::AsperitySet;
 use crate::rolling::{self, RollingConfig, StepStatus};
@@ -190,14 +191,10 @@ pub fn approach_bound(
     }
 }
 
-/// Calibrates the asperities of `road` that `config`'s path can select.
-/// `wilke` is the same road in the rolling frame with its Wilke laws (and
-/// summit radii, as the run uses them): it bounds the approach. `map` is the
-/// segmented height map. The calibration runs on `par`'s threads.
+/// [`calibrate_rolling_road_under`] a flat punch.
 ///
 /// # Errors
-/// Those of [`approach_bound`] and of the calibration
-/// ([`super::calibrated_set`]).
+/// As [`calibrate_rolling_road_under`].
 pub fn calibrate_rolling_road(
     road: &TextureRoad,
     wilke: &rolling::Road<TextureLaw>,
@@ -205,6 +202,37 @@ pub fn calibrate_rolling_road(
     config: &RollingConfig,
     calibrator: &Calibrator,
     par: Par,
+) -> Result<RollingCalibration, FidelityError> {
+    calibrate_rolling_road_under(
+        road,
+        wilke,
+        map,
+        config,
+        calibrator,
+        par,
+        CalibrateUnder::Flat,
+    )
+}
+
+/// Calibrates the asperities of `road` that `config`'s path can select,
+/// each cap under a flat punch or the tread's local shape (`under`,
+/// [`super::under_tread`]: an asperity may then be raised so that the
+/// model's gap is its cap's first contact).
+/// `wilke` is the same road in the rolling frame with its Wilke laws (and
+/// summit radii, as the run uses them): it bounds the approach. `map` is the
+/// segmented height map. The calibration runs on `par`'s threads.
+///
+/// # Errors
+/// Those of [`approach_bound`] and of the calibration
+/// ([`super::calibrated_set`]).
+pub fn calibrate_rolling_road_under(
+    road: &TextureRoad,
+    wilke: &rolling::Road<TextureLaw>,
+    map: &HeightMap,
+    config: &RollingConfig,
+    calibrator: &Calibrator,
+    par: Par,
+    under: CalibrateUnder,
 ) -> Result<RollingCalibration, FidelityError> {
     let clock = Instant::now();
     let max_approach =
@@ -218,11 +246,17 @@ pub fn calibrate_rolling_road(
         ));
     }
     let lifts = profile_lifts(wilke, config, &kept);
+    let shape = cap_shape(wilke, config, &kept, under);
     let laws = run_at(par, || {
-        calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts)
+        calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
     })?;
     let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
-    let heights = kept.iter().map(|&i| wilke.heights()[i]).collect();
+    let heights = kept
+        .iter()
+        .zip(&laws)
+        .map(|(&i, (_, lift))| wilke.heights()[i] + lift)
+        .collect();
+    let laws = laws.into_iter().map(|(law, _)| law).collect();
     let set = AsperitySet::new(positions, heights, laws)?;
     Ok(RollingCalibration {
         set,
@@ -231,4 +265,33 @@ pub fn calibrate_rolling_road(
         counts: calibrator.counts(),
         time: clock.elapsed(),
     })
+}
+
+/// Where each of `wilke`'s asperities lies under `config`'s tread (by the
+/// road's index), for `under`. Lifts are bounded by the highest kept
+/// summit, the calibrated road's reference for the approach.
+fn cap_shape(
+    wilke: &rolling::Road<TextureLaw>,
+    config: &RollingConfig,
+    kept: &[usize],
+    under: CalibrateUnder,
+) -> CapShape {
+    match under {
+        CalibrateUnder::Flat => CapShape::Flat,
+        CalibrateUnder::Tread => {
+            let top = kept
+                .iter()
+                .map(|&i| wilke.heights()[i])
+                .fold(f64::NEG_INFINITY, f64::max);
+            let n = wilke.len();
+            CapShape::Tread {
+                tread: config.tread,
+                eta: (0..n)
+                    .map(|i| wilke.positions()[i][1] - config.lateral)
+                    .collect(),
+                radius: (0..n).map(|i| wilke.summit_radius(i)).collect(),
+                headroom: (0..n).map(|i| top - wilke.heights()[i]).collect(),
+            }
+        }
+    }
 }

@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 
+use super::under_tread::CapShape;
 use super::{CalibratedLaw, Calibrator, CapPatch, FidelityError};
 use crate::multipoint::AsperitySet;
 use crate::texture::{Asperity, HeightMap};
@@ -107,7 +108,10 @@ pub fn calibrated_set(
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
-    let laws = calibrated_laws(road, map, max_approach, calibrator, &all, &[])?;
+    let laws = calibrated_laws(road, map, max_approach, calibrator, &all, &[], &CapShape::Flat)?
+        .into_iter()
+        .map(|(law, _)| law)
+        .collect();
     AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),
@@ -118,12 +122,13 @@ pub fn calibrated_set(
 
 /// The calibrated laws of the road's asperities `indices` (indices into
 /// `road.set`), tabulated as in [`calibrated_set`], in parallel on rayon's
-/// current pool. `lifts` (m, one per index, or empty for none) is how far
-/// the tread's profile at least keeps each asperity from the approach
-/// (a rolling path: [`super::rolling::profile_lifts`]); a lifted asperity
-/// can only be pressed `max_approach − (top − z_i) − lift_i` deep, so its
-/// table stops there (with the same floor) instead of paying for depths
-/// the run cannot reach.
+/// current pool, each cap under `shape` (with how far its asperity is
+/// lifted, [`super::under_tread`]). `lifts` (m, one per index, or empty for
+/// none) is how far the tread's profile at least keeps each asperity from
+/// the approach (a rolling path: [`super::rolling::profile_lifts`]); a
+/// lifted asperity can only be pressed `max_approach − (top − z_i) −
+/// lift_i` deep, so its table stops there (with the same floor) instead of
+/// paying for depths the run cannot reach.
 ///
 /// # Errors
 /// As [`calibrated_set`]; [`FidelityError::InvalidInput`] for an index out
@@ -135,7 +140,8 @@ pub(crate) fn calibrated_laws(
     calibrator: &Calibrator,
     indices: &[usize],
     lifts: &[f64],
-) -> Result<Vec<CalibratedLaw>, FidelityError> {
+    shape: &CapShape,
+) -> Result<Vec<(CalibratedLaw, f64)>, FidelityError> {
     if !(lifts.is_empty() || lifts.len() == indices.len()) {
         return Err(FidelityError::invalid(
             "profile lifts",
@@ -180,11 +186,14 @@ pub(crate) fn calibrated_laws(
             let a = &road.segmentation.asperities()[k];
             let lift = lifts.get(n).copied().unwrap_or(0.0);
             let depth = (max_approach - (top - z) - lift).max(0.1 * max_approach);
-            let patch = cap_patch(map, a, depth)?;
+            let shaped = shape.patch(map, a, i, depth)?;
+            let patch = shaped.patch;
             // The top cell may lie below a refined summit: the table must
             // reach past it.
-            let depth = depth.max(2.0 * patch.summit_offset());
-            calibrator.law(&patch, depth)
+            // A cap raised to touch where its shape says is pressed deeper
+            // by as much.
+            let depth = (depth + shaped.lift).max(2.0 * patch.summit_offset());
+            Ok((calibrator.law(&patch, depth)?, shaped.lift))
         })
         .collect()
 }

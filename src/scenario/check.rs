@@ -11,6 +11,7 @@ use super::ranges::*;
 use super::rolling_spec::{RollingSpec, TreadSpec};
 use super::spec::{Scenario, ShapeSpec, SynthSpec};
 use crate::fidelity::Fidelity;
+use crate::fidelity::under_tread::CalibrateUnder;
 
 /// Checks that the sections name one road, then every value of `scenario`
 /// (see the module doc).
@@ -466,6 +467,19 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
             expected,
         ));
     }
+    // A tread to calibrate under exists only in a rolling run on a
+    // texture's calibrated laws.
+    if scenario.model.calibrate_under()? == CalibrateUnder::Tread
+        && !(rolling_texture
+            && matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields))
+    {
+        return Err(bad(
+            "[model] calibrate_under",
+            "\"tread\"",
+            "\"flat\" unless [model] fidelity is \"calibrated\" or \"calibrated_fields\" \
+             in a [rolling] run on a [texture]",
+        ));
+    }
     Ok(())
 }
 
@@ -522,6 +536,48 @@ mod tests {
             "[default_shape] radius",
         );
         refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
+    }
+
+    /// `[model] calibrate_under`: known names only, and `"tread"` only
+    /// where a tread meets calibrated caps (a rolling run on a texture's
+    /// calibrated laws).
+    #[test]
+    fn calibrate_under_names_its_values_and_needs_calibrated_rolling() {
+        let model = |body: &str| format!("[model]\n{body}\n\n[rolling]");
+        let rolling = |body: &str| ROLLING.replacen("[rolling]", &model(body), 1);
+        for fidelity in ["calibrated", "calibrated_fields"] {
+            let text = rolling(&format!(
+                "fidelity = \"{fidelity}\"\ncalibrate_under = \"tread\""
+            ));
+            let s = Scenario::parse(&text, "case").unwrap();
+            assert_eq!(
+                s.model.calibrate_under().unwrap(),
+                crate::fidelity::under_tread::CalibrateUnder::Tread
+            );
+        }
+        let flat = Scenario::parse(&rolling("calibrate_under = \"flat\""), "case").unwrap();
+        assert_eq!(
+            flat.model.calibrate_under().unwrap(),
+            crate::fidelity::under_tread::CalibrateUnder::Flat
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("fidelity = \"calibrated\"\ncalibrate_under = \"tilted\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("calibrate_under = \"tread\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            PAPER,
+            "[material]",
+            "[model]\ncalibrate_under = \"tread\"\n\n[material]",
+            "[model] calibrate_under",
+        );
     }
 
     #[test]

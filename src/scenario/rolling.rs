@@ -331,6 +331,7 @@ fn calibrated_road(
         par,
         cache.as_deref(),
         fields,
+        scenario.model.calibrate_under()?,
     )?;
     let road = rolling::Road::new(set).with_summit_radii(radii)?;
     Ok((road, RoadSummary::Texture(summary)))

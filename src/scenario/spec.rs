@@ -13,6 +13,7 @@ use super::ScenarioError;
 use super::rolling_spec::RollingSpec;
 use super::units::{Angle, Area, Force, Length, Pressure};
 use crate::fidelity::Fidelity;
+use crate::fidelity::under_tread::CalibrateUnder;
 use crate::texture_road::TextureRoadOptions;
 
 type Result<T, E = ScenarioError> = std::result::Result<T, E>;
@@ -62,6 +63,11 @@ pub struct Scenario {
 pub struct ModelSpec {
     /// `"wilke"` (default), `"calibrated"` or `"distributed"`.
     pub fidelity: Option<String>,
+    /// What a rolling run's caps are calibrated under: `"flat"` (default,
+    /// a flat punch) or `"tread"` (the tread's local shape at each cap's
+    /// lateral position, `crate::fidelity::under_tread`); for `calibrated`
+    /// and `calibrated_fields` in a `[rolling]` run on a `[texture]`.
+    pub calibrate_under: Option<String>,
 }
 
 impl ModelSpec {
@@ -76,6 +82,23 @@ impl ModelSpec {
                 key: "[model] fidelity".into(),
                 value: format!("{name:?}"),
                 expected: "\"wilke\", \"calibrated\" or \"distributed\"".into(),
+            }),
+        }
+    }
+
+    /// What caps are calibrated under, [`CalibrateUnder::Flat`] when not
+    /// given.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming `[model] calibrate_under` for an
+    /// unknown name.
+    pub fn calibrate_under(&self) -> Result<CalibrateUnder> {
+        match &self.calibrate_under {
+            None => Ok(CalibrateUnder::Flat),
+            Some(name) => name.parse().map_err(|_| ScenarioError::Value {
+                key: "[model] calibrate_under".into(),
+                value: format!("{name:?}"),
+                expected: "\"flat\" or \"tread\"".into(),
             }),
         }
     }
@@ -494,6 +517,7 @@ impl Scenario {
             config,
             par,
             cache,
+            self.model.calibrate_under()?,
         )?;
         Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
     }

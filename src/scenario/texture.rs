@@ -14,7 +14,8 @@ use super::statics::{StaticResult, run_static_problem, run_static_problem_with, 
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
 use crate::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
-use crate::fidelity::rolling::{PastTables, calibrate_rolling_road};
+use crate::fidelity::rolling::{PastTables, calibrate_rolling_road_under};
+use crate::fidelity::under_tread::CalibrateUnder;
 use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, Coupling, FidelityError, LawSource,
     calibrated_set,
@@ -311,14 +312,19 @@ pub(crate) fn calibrated_texture_road_set(
     config: &tyreroad_rolling::RollingConfig,
     par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
+    under: CalibrateUnder,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
-    calibrated_texture_road_set_with(texture, base_dir, material, config, par, cache, false)
+    calibrated_texture_road_set_with(
+        texture, base_dir, material, config, par, cache, false, under,
+    )
 }
 
 /// [`calibrated_texture_road_set`], the tables keeping their binned
 /// pressure fields when `fields` (`[model] fidelity = "calibrated_fields"`;
 /// `Calibrator::with_fields` neither reads nor writes the disk cache, so
-/// `cache` is then unused).
+/// `cache` is then unused); each cap under `under` (`[model]
+/// calibrate_under`, `crate::fidelity::under_tread`).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn calibrated_texture_road_set_with(
     texture: &TextureSpec,
     base_dir: &Path,
@@ -327,6 +333,7 @@ pub(crate) fn calibrated_texture_road_set_with(
     par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
     fields: bool,
+    under: CalibrateUnder,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
@@ -341,7 +348,8 @@ pub(crate) fn calibrated_texture_road_set_with(
     if let Some(dir) = cache {
         calibrator = calibrator.with_disk_cache(dir);
     }
-    let calibrated = calibrate_rolling_road(&road, &wilke, &map, config, &calibrator, par)?;
+    let calibrated =
+        calibrate_rolling_road_under(&road, &wilke, &map, config, &calibrator, par, under)?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
     summary.calibration = Some(CalibrationSummary {
         asperities: calibrated.kept.len(),

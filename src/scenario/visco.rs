@@ -564,6 +564,7 @@ impl Scenario {
                     par,
                     None,
                     fields,
+                    self.model.calibrate_under()?,
                 )?;
                 let road = rolling::Road::new(set).with_summit_radii(radii)?;
                 let sweep = Sweep {

@@ -43,6 +43,11 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         }
         scenario.model.fidelity = Some(name.clone());
     }
+    if let Some(name) = &args.calibrate_under {
+        scenario.model.calibrate_under = Some(name.clone());
+        // A bad name is refused here, before any solve.
+        scenario.model.calibrate_under()?;
+    }
     if args.elastic {
         scenario.material.viscoelastic = None;
     } else if scenario.material.viscoelastic.is_some() {
