@@ -1,7 +1,8 @@
-//! How many of a rolling texture scenario's asperities keep their depth
-//! bands under Ting's treatment, and how many fall back to one band
-//! (their law's slope falls at a band level: a non-convex law), down to
-//! the depth each asperity can reach on the path (docs/viscoelastic.md,
+//! How deep the base band of each of a rolling texture scenario's
+//! asperities goes under Ting's treatment (the deepest band level where
+//! its law's slope falls: the depths below it share one memory, the bands
+//! above keep their own), and how many are one band down to the depth each
+//! asperity can reach on the path (docs/viscoelastic.md,
 //! "Ting's treatment on texture laws"):
 //!
 //! ```text
@@ -24,7 +25,7 @@ use tyreroad::fidelity::rolling::{approach_bound, calibrate_rolling_road, select
 use tyreroad::fidelity::{CalibrationOptions, Calibrator};
 use tyreroad::scenario::Scenario;
 use tyreroad::shared::Par;
-use tyreroad::viscoelastic::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, keeps_bands};
+use tyreroad::viscoelastic::{DEFAULT_BANDS_PER_DECADE, base_band_depth};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -45,27 +46,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let per_decade = DEFAULT_BANDS_PER_DECADE;
     let modulus = material.youngs_modulus();
     let (mut reached, mut one_band) = (0usize, 0usize);
-    // The depth of the first band level where each law's slope falls.
-    let mut first_drop = Vec::new();
-    let mut count = |law: &dyn Fn(f64) -> bool, depth: f64| {
+    // The depth of each law's base band (the deepest level where its slope
+    // falls), and that depth over the depth the asperity reaches.
+    let (mut first_drop, mut share) = (Vec::new(), Vec::new());
+    let mut count = |base: &dyn Fn(f64) -> f64, depth: f64| {
         if depth > 0.0 {
             reached += 1;
-            if !law(depth) {
-                one_band += 1;
-                let level = |j: usize| BAND_FLOOR * 10f64.powf(j as f64 / per_decade as f64);
-                let (mut lo, mut hi) = (0, 1);
-                while law(level(hi)) {
-                    (lo, hi) = (hi, 2 * hi);
+            let b = base(depth);
+            if b > 0.0 {
+                first_drop.push(b);
+                share.push(b / depth);
+                // Below the next level the whole reach is one band.
+                if b >= depth {
+                    one_band += 1;
                 }
-                while hi - lo > 1 {
-                    let mid = (lo + hi) / 2;
-                    if law(level(mid)) {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                first_drop.push(level(hi));
             }
         }
     };
@@ -79,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let set = &cal.set;
         for (law, z) in set.laws().iter().zip(set.heights()) {
             count(
-                &|d| keeps_bands(law, modulus, per_decade, d),
+                &|d| base_band_depth(law, modulus, per_decade, d),
                 bound - (top - z),
             );
         }
@@ -88,25 +82,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for i in selectable(wilke.positions(), &config) {
             let law = &laws[i];
             count(
-                &|d| keeps_bands(law, modulus, per_decade, d),
+                &|d| base_band_depth(law, modulus, per_decade, d),
                 bound - (top - z[i]),
             );
         }
     }
     println!(
         "{path}: {} laws, largest Wilke approach {:.3} mm (tables to {:.3} mm), {per_decade} bands a decade: \
-         {reached} asperities reach a positive depth, {one_band} keep one band ({:.1} %), {} keep their bands",
+         {reached} asperities reach a positive depth, {} have a base band ({:.1} %), {one_band} are one band down to their depth",
         if calibrated { "calibrated" } else { "Wilke" },
         bound * 1e3,
         APPROACH_MARGIN * bound * 1e3,
-        100.0 * one_band as f64 / reached.max(1) as f64,
-        reached - one_band
+        first_drop.len(),
+        100.0 * first_drop.len() as f64 / reached.max(1) as f64,
     );
-    if !first_drop.is_empty() {
-        first_drop.sort_by(f64::total_cmp);
-        let q = |f: f64| first_drop[((first_drop.len() - 1) as f64 * f).round() as usize] * 1e6;
+    for (what, values, unit) in [
+        ("base band depth (µm)", &mut first_drop, 1e6),
+        ("base band over the depth reached", &mut share, 1.0),
+    ] {
+        if values.is_empty() {
+            continue;
+        }
+        values.sort_by(f64::total_cmp);
+        let q = |f: f64| values[((values.len() - 1) as f64 * f).round() as usize] * unit;
         println!(
-            "  depth of the first slope drop (µm): min {:.3}, quartiles {:.3} / {:.3} / {:.3}, max {:.3}",
+            "  {what}: min {:.3}, quartiles {:.3} / {:.3} / {:.3}, max {:.3}",
             q(0.0),
             q(0.25),
             q(0.5),

@@ -86,4 +86,7 @@ pub use rolling::{
     roll_viscoelastic_coupled,
 };
 pub use sphere::{dawson, lee_radok_ramp_force};
-pub use ting::{BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding, keeps_bands};
+pub use ting::{
+    BAND_FLOOR, DEFAULT_BANDS_PER_DECADE, MAX_BANDS_PER_DECADE, Receding, base_band_depth,
+    keeps_bands,
+};

@@ -148,6 +148,11 @@ pub(crate) struct Bands {
     touching: Vec<f64>,
     /// `Σ_b h_b` of the current step (N).
     history_sum: f64,
+    /// Band levels looked at so far (kept or merged into the base band).
+    reached: usize,
+    /// Upper level of the base band after a slope drop (m); 0 while the
+    /// law's slope has not fallen at any level.
+    base: f64,
 }
 
 impl Bands {
@@ -186,9 +191,6 @@ impl Bands {
         for (level, &h) in self.levels.iter().zip(&self.history) {
             let depth = if h >= 0.0 {
                 f64::NEG_INFINITY
-            } else if level.depth == f64::INFINITY {
-                // One band for the whole law: always looked at.
-                f64::INFINITY
             } else {
                 // f_b at its upper level and its slope beyond.
                 let (f_lo, s_lo) = lower.map_or((0.0, 0.0), |l| {
@@ -233,22 +235,19 @@ impl Bands {
         per_decade: usize,
         branches: usize,
     ) {
-        if !depth.is_finite() || self.levels.last().is_some_and(|l| l.depth == f64::INFINITY) {
+        if !depth.is_finite() {
             return;
         }
         while self.levels.last().is_none_or(|l| l.depth < depth) {
-            let j = self.levels.len() as f64;
+            let j = self.reached as f64;
             let level = BAND_FLOOR * 10f64.powf(j / per_decade as f64);
+            self.reached += 1;
             let point = law.evaluate(level);
             let slope = point.stiffness / reference;
-            if self
+            let drop = self
                 .levels
                 .last()
-                .is_some_and(|l| slope < l.slope * (1.0 - 1e-9))
-            {
-                self.make_whole(branches);
-                return;
-            }
+                .is_some_and(|l| slope < l.slope * (1.0 - 1e-9));
             self.levels.push(Level {
                 depth: level,
                 force: point.force / reference,
@@ -258,32 +257,38 @@ impl Bands {
             self.history.push(0.0);
             self.touching.push(f64::NEG_INFINITY);
             self.branch.extend(std::iter::repeat_n(0.0, branches));
+            if drop {
+                self.merge_base(branches);
+            }
         }
     }
 
-    /// A law whose slope falls between two levels is not convex: its bands
-    /// would not all be non-negative, so the asperity's bands are merged
-    /// into one (the states add up: the recursion is linear) spanning every
-    /// depth, which is Lee–Radok's recursion clipped at zero for that
-    /// asperity.
-    fn make_whole(&mut self, branches: usize) {
+    /// The law's slope fell at the level just added: every band up to it
+    /// becomes one base band `[0, that level]` (the states add up: the
+    /// recursion is linear). A base band is `f(δ)` up to its level and the
+    /// tangent beyond, non-negative and non-decreasing whatever the law
+    /// below it, so the bands above it keep their own memories. A tabulated
+    /// law's slope dips inside its first interval (a monotone cubic from a
+    /// zero slope), which would otherwise cost the whole asperity its bands;
+    /// a law concave throughout keeps one band, Lee–Radok's recursion
+    /// clipped at zero.
+    fn merge_base(&mut self, branches: usize) {
+        let top = self.levels.len() - 1;
+        let k = branches.max(1);
         let mut branch = vec![0.0; branches];
-        for (b, q) in self.branch.chunks(branches.max(1)).enumerate() {
-            if b < self.unit.len() {
-                for (sum, v) in branch.iter_mut().zip(q) {
-                    *sum += v;
-                }
+        for q in self.branch.chunks(k).take(top + 1) {
+            for (sum, v) in branch.iter_mut().zip(q) {
+                *sum += v;
             }
         }
-        self.levels = vec![Level {
-            depth: f64::INFINITY,
-            force: 0.0,
-            slope: 0.0,
-        }];
-        self.unit = vec![self.unit.iter().sum()];
-        self.history = vec![self.history_sum];
+        let unit: f64 = self.unit[..=top].iter().sum();
+        let history: f64 = self.history[..=top].iter().sum();
+        self.levels.drain(..top);
+        self.unit = vec![unit];
+        self.history = vec![history];
         self.touching = vec![f64::NEG_INFINITY];
         self.branch = branch;
+        self.base = self.levels[0].depth;
     }
 
     /// Ends a step at interpenetration `depth`: adds the bands reached,
@@ -324,16 +329,29 @@ impl Bands {
     }
 }
 
-/// Whether Ting's treatment keeps `law`'s depth bands down to `depth` (m)
-/// at `per_decade` bands a decade: the law's slope does not fall from one
-/// band level to the next (the rule [`Receding::Ting`] applies while
-/// rolling); otherwise the asperity keeps one band for all depths,
-/// Lee–Radok's recursion clipped at zero. `reference` is the modulus the
-/// law was built with (Pa).
-pub fn keeps_bands<L: ContactLaw>(law: &L, reference: f64, per_decade: usize, depth: f64) -> bool {
+/// The depth (m) up to which Ting's treatment keeps `law` as one base band
+/// when its bands are built down to `depth` at `per_decade` bands a decade:
+/// the deepest band level where the law's slope falls from the level
+/// before (the rule [`Receding::Ting`] applies), zero for a law whose slope
+/// never falls there. Below it the asperity follows Lee–Radok's recursion
+/// clipped at zero; above it each band has its own memory. `reference` is
+/// the modulus the law was built with (Pa).
+pub fn base_band_depth<L: ContactLaw>(
+    law: &L,
+    reference: f64,
+    per_decade: usize,
+    depth: f64,
+) -> f64 {
     let mut bands = Bands::default();
     bands.reach(depth, law, reference, per_decade.max(1), 0);
-    bands.levels.last().is_none_or(|l| l.depth != f64::INFINITY)
+    bands.base
+}
+
+/// Whether Ting's treatment keeps all of `law`'s depth bands down to
+/// `depth` (m) at `per_decade` bands a decade: the law's slope does not
+/// fall from one band level to the next ([`base_band_depth`] is zero).
+pub fn keeps_bands<L: ContactLaw>(law: &L, reference: f64, per_decade: usize, depth: f64) -> bool {
+    base_band_depth(law, reference, per_decade, depth) == 0.0
 }
 
 /// The law of one asperity during one step under Ting's treatment:
@@ -535,6 +553,79 @@ mod tests {
         let expected = (3e6 * depth.sqrt() + h).max(0.0);
         assert!((law.evaluate(depth).force - expected).abs() <= 1e-9 * expected.max(1.0));
         assert_eq!(law.evaluate(1e-12).force, 0.0);
+    }
+
+    /// Hertz with a stiffer start, `+ k·min(δ, d0)`: the slope falls by
+    /// `k` at `d0` and the law is convex on either side, as a tabulated
+    /// law whose monotone cubic dips in its first interval.
+    struct StiffStart {
+        hertz: HertzLaw,
+        stiffness: f64,
+        knee: f64,
+    }
+
+    impl ContactLaw for StiffStart {
+        fn evaluate(&self, depth: f64) -> LawPoint {
+            let p = self.hertz.evaluate(depth);
+            if !(depth > 0.0) {
+                return p;
+            }
+            LawPoint {
+                force: p.force + self.stiffness * depth.min(self.knee),
+                stiffness: p.stiffness
+                    + if depth < self.knee {
+                        self.stiffness
+                    } else {
+                        0.0
+                    },
+            }
+        }
+        fn local_contact(&self, force: f64, depth: f64) -> LocalContact {
+            self.hertz.local_contact(force, depth)
+        }
+    }
+
+    #[test]
+    fn a_slope_drop_near_the_start_keeps_the_bands_above_it() {
+        let law = StiffStart {
+            hertz: hertz(),
+            stiffness: 500.0,
+            knee: 2e-6,
+        };
+        // The base band ends at the first level past the knee (20 a decade).
+        let base = super::base_band_depth(&law, 1e6, 20, 1e-4);
+        assert!(
+            base > 2e-6 && base < 2e-6 * 10f64.powf(1.0 / 20.0),
+            "{base}"
+        );
+        assert!(!super::keeps_bands(&law, 1e6, 20, 1e-4));
+        let mut bands = Bands::default();
+        bands.reach(1e-4, &law, 1e6, 20, 0);
+        // The base band and the levels of the 1.7 decades above it, each
+        // a band with its own memory (the rule before kept one band).
+        assert!(bands.levels.len() > 30, "{}", bands.levels.len());
+        assert_eq!(bands.levels[0].depth, base);
+        let full = BandLaw {
+            inner: &law,
+            reference: 1e6,
+            effective: 3e6,
+            bands: &bands,
+        };
+        for depth in [1e-7, 2e-6, 3e-6, 5e-5, 1e-4, 3e-4] {
+            let point = law.evaluate(depth);
+            let exact = 3.0 * point.force;
+            assert!(
+                (full.evaluate(depth).force - exact).abs() <= 1e-12 * exact,
+                "{depth}"
+            );
+            let (f, s) = (point.force / 1e6, point.stiffness / 1e6);
+            let mut lower = (0.0, 0.0);
+            for level in &bands.levels {
+                let upper = level.inner(depth, f, s);
+                assert!(upper.0 - lower.0 >= -1e-24 && upper.1 - lower.1 >= -1e-18);
+                lower = upper;
+            }
+        }
     }
 
     #[test]
