@@ -108,10 +108,18 @@ pub fn calibrated_set(
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
-    let laws = calibrated_laws(road, map, max_approach, calibrator, &all, &[], &CapShape::Flat)?
-        .into_iter()
-        .map(|(law, _)| law)
-        .collect();
+    let laws = calibrated_laws(
+        road,
+        map,
+        max_approach,
+        calibrator,
+        &all,
+        &[],
+        &CapShape::Flat,
+    )?
+    .into_iter()
+    .map(|(law, _)| law)
+    .collect();
     AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),

@@ -5,7 +5,10 @@
 
 use std::path::PathBuf;
 
-use tyreroad::bem_rolling::SignalComparison;
+use serde::Serialize;
+use tyreroad::bem_rolling::{BemRollingResult, SignalComparison};
+use tyreroad::rolling::RollingResult;
+use tyreroad::scenario::output::fmt;
 
 /// Arguments of `rolling-bem`.
 #[derive(clap::Args)]
@@ -113,4 +116,50 @@ fn parse_refinement(text: &str) -> Result<usize, String> {
             "`{text}`: expected a refinement factor of 2 or more"
         )),
     }
+}
+
+/// One step of both runs (`rolling_bem_steps.csv`,
+/// `rolling_visco_compare_steps.csv`: the same columns).
+#[derive(Serialize)]
+pub(crate) struct ComparedStepRow {
+    step: usize,
+    #[serde(serialize_with = "fmt::sci9")]
+    time_s: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    position_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_model_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    total_force_bem_n: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_model_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    approach_bem_m: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_model_m2: f64,
+    #[serde(serialize_with = "fmt::sci9")]
+    contact_area_bem_m2: f64,
+}
+
+/// The per-step rows of a multipoint run beside the BEM's, step by step.
+pub(crate) fn compared_step_rows(
+    model: &RollingResult,
+    bem: &BemRollingResult,
+) -> Vec<ComparedStepRow> {
+    model
+        .steps
+        .iter()
+        .zip(&bem.steps)
+        .map(|(m, b)| ComparedStepRow {
+            step: m.index,
+            time_s: m.time,
+            position_m: m.position,
+            total_force_model_n: m.total_force,
+            total_force_bem_n: b.total_force,
+            approach_model_m: m.approach,
+            approach_bem_m: b.approach,
+            contact_area_model_m2: m.contact_area,
+            contact_area_bem_m2: b.contact_area,
+        })
+        .collect()
 }

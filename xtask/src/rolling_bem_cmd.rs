@@ -19,7 +19,7 @@ use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
 use crate::charts::{Series, line_chart};
-use crate::rolling_bem_args::{RollingBemArgs, print_report_row};
+use crate::rolling_bem_args::{RollingBemArgs, compared_step_rows, print_report_row};
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
@@ -232,28 +232,6 @@ fn print_report(name: &str, run: &BemRollingRun) {
     }
 }
 
-/// One step of both runs.
-#[derive(Serialize)]
-struct StepRow {
-    step: usize,
-    #[serde(serialize_with = "fmt::sci9")]
-    time_s: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    position_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    total_force_model_n: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    total_force_bem_n: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    approach_model_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    approach_bem_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    contact_area_model_m2: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    contact_area_bem_m2: f64,
-}
-
 /// One sensor at one step.
 #[derive(Serialize)]
 struct SensorRow<'a> {
@@ -294,22 +272,7 @@ struct BandRow<'a> {
 
 fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
     let mp = &run.multipoint.result;
-    let steps: Vec<StepRow> = mp
-        .steps
-        .iter()
-        .zip(&run.bem.steps)
-        .map(|(m, b)| StepRow {
-            step: m.index,
-            time_s: m.time,
-            position_m: m.position,
-            total_force_model_n: m.total_force,
-            total_force_bem_n: b.total_force,
-            approach_model_m: m.approach,
-            approach_bem_m: b.approach,
-            contact_area_model_m2: m.contact_area,
-            contact_area_bem_m2: b.contact_area,
-        })
-        .collect();
+    let steps = compared_step_rows(mp, &run.bem);
     set.write_csv("rolling_bem_steps.csv", &steps)?;
     let sensors = &run.multipoint.config.sensors;
     let summit =

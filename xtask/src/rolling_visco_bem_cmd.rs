@@ -23,7 +23,7 @@ use tyreroad::scenario::{Par, Scenario};
 use tyreroad::shared::Material;
 use tyreroad::viscoelastic::{Branch, Prony};
 
-use crate::rolling_bem_args::{RollingBemArgs, print_report_row};
+use crate::rolling_bem_args::{RollingBemArgs, compared_step_rows, print_report_row};
 
 /// Rolls the scenario's viscoelastic tread over the stretch by the
 /// multipoint model and by the viscoelastic BEM; prints the comparison,
@@ -117,28 +117,6 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
     }
 }
 
-/// One step of both viscoelastic runs.
-#[derive(Serialize)]
-struct ComparedStep {
-    step: usize,
-    #[serde(serialize_with = "fmt::sci9")]
-    time_s: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    position_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    total_force_model_n: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    total_force_bem_n: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    approach_model_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    approach_bem_m: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    contact_area_model_m2: f64,
-    #[serde(serialize_with = "fmt::sci9")]
-    contact_area_bem_m2: f64,
-}
-
 /// One sensor of both viscoelastic runs at one step.
 #[derive(Serialize)]
 struct ComparedSensor<'a> {
@@ -166,22 +144,7 @@ struct ComparedBand<'a> {
 
 fn write_comparison(run: &ViscoBemRollingRun, set: &mut OutputSet) -> Result<()> {
     let mp = &run.multipoint.result;
-    let steps: Vec<ComparedStep> = mp
-        .steps
-        .iter()
-        .zip(&run.bem.steps)
-        .map(|(m, b)| ComparedStep {
-            step: m.index,
-            time_s: m.time,
-            position_m: m.position,
-            total_force_model_n: m.total_force,
-            total_force_bem_n: b.total_force,
-            approach_model_m: m.approach,
-            approach_bem_m: b.approach,
-            contact_area_model_m2: m.contact_area,
-            contact_area_bem_m2: b.contact_area,
-        })
-        .collect();
+    let steps = compared_step_rows(mp, &run.bem);
     set.write_csv("rolling_visco_compare_steps.csv", &steps)?;
     let mut sensors = Vec::new();
     for (k, s) in run.multipoint.config.sensors.iter().enumerate() {
