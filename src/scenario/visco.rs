@@ -141,8 +141,9 @@ pub struct ViscoSpec {
     /// memory, as in the viscoelastic rolling BEM) or `"kept"` (Hunter's
     /// half-space attached to the road behind the footprint).
     pub trailing_memory: Option<String>,
-    /// In rolling, a patch that shrinks while touching: `"lee_radok"`
-    /// (default) or `"ting"` (depth bands, 20 per decade).
+    /// In rolling, a patch that shrinks while touching: `"ting"` (default:
+    /// depth bands, 20 per decade) or `"lee_radok"` (the recursion on the
+    /// whole force, which lifts a receding patch off early).
     pub receding: Option<String>,
 }
 
@@ -398,8 +399,8 @@ impl ViscoSpec {
 
     fn receding(&self) -> Result<Receding, ScenarioError> {
         match self.receding.as_deref() {
-            None | Some("lee_radok") => Ok(Receding::LeeRadok),
-            Some("ting") => Ok(Receding::default()),
+            Some("lee_radok") => Ok(Receding::LeeRadok),
+            None | Some("ting") => Ok(Receding::default()),
             Some(other) => Err(ScenarioError::Value {
                 key: "[material.viscoelastic] receding".into(),
                 value: format!("{other:?}"),

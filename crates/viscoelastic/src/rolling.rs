@@ -62,12 +62,15 @@
 //! ([`ViscoRolling::transient_steps`]).
 //!
 //! Within a patch ([`ViscoRollOptions::receding`]): with
-//! [`Receding::LeeRadok`] (the default here), `w_i = P^law(δ_i)/E_ref` is
-//! Lee–Radok's replacement and holds while the patch grows, and a patch that
-//! shrinks while still touching (the trailing edge) keeps it; with
-//! [`Receding::Ting`] each asperity's law is cut into depth bands with their
-//! own memory ([`crate::ting`]), `p_i` and `w_i` are the band sums and `h_i`
-//! their memories', the rest of the step unchanged. Shrinking patches are
+//! [`Receding::Ting`] (the default, as in static histories) each
+//! asperity's law is cut into depth bands with their own memory
+//! ([`crate::ting`]), `p_i` and `w_i` are the band sums and `h_i` their
+//! memories', the rest of the step unchanged; with [`Receding::LeeRadok`],
+//! `w_i = P^law(δ_i)/E_ref` is Lee–Radok's replacement, which holds while
+//! the patch grows, and a patch that shrinks while still touching (the
+//! trailing edge) keeps it, so it over-relaxes and lifts off early there
+//! (docs/viscoelastic.md, "Rolling against the viscoelastic BEM": Ting is
+//! closer to the BEM on every measured row). Shrinking patches are
 //! counted either way ([`ViscoRolling::receding`]). Between asperities the
 //! complementarity is exact: an asperity whose memory keeps the tread away
 //! simply carries nothing.
@@ -142,7 +145,7 @@ pub struct ViscoRollOptions<'a> {
     /// [`RollingError::Interrupted`].
     pub progress: Option<ProgressFn<'a>>,
     /// How a patch that shrinks while touching is treated (default
-    /// [`Receding::LeeRadok`] in rolling).
+    /// Ting's depth bands, [`Receding::default`]).
     pub receding: Receding,
 }
 
@@ -153,7 +156,7 @@ impl Default for ViscoRollOptions<'_> {
             start: ViscoStart::Fresh,
             trailing: TrailingMemory::LiftsOff,
             progress: None,
-            receding: Receding::LeeRadok,
+            receding: Receding::default(),
         }
     }
 }
