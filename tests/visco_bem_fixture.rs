@@ -96,3 +96,19 @@ fn the_visco_bem_comparison_fixture_keeps_the_contact_clear_of_the_window() {
         small.clearance
     );
 }
+
+#[test]
+fn the_20mm_sensor_copy_of_the_clear_fixture_is_reached_and_left_by_rolling() {
+    // Same window and stretch as the clear fixture; its 20 mm sensors reach
+    // 10 mm further back (115 mm), which the relaxed contact, 41 mm behind
+    // the last centre (156 mm), must have left.
+    let copy = relaxed_reach("rolling_visco_bem_clear_20mm.toml");
+    assert!(
+        copy.clearance[0] > 3e-3 && copy.clearance[1] > 3e-3,
+        "clearance {:?} m",
+        copy.clearance
+    );
+    assert!(copy.sensors_ahead);
+    assert!(copy.sensor_peak > 50.0, "{}", copy.sensor_peak);
+    assert_eq!(copy.sensor_last, 0.0);
+}
