@@ -27,7 +27,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::bem::{BemOptions, Control as BemControl, Solver};
-use crate::fidelity::{CalibrationOptions, Calibrator, Fidelity, rolling::calibrate_rolling_road};
+use crate::fidelity::{
+    CalibrationOptions, Calibrator, Fidelity, rolling::calibrate_rolling_road_under,
+};
 use crate::multipoint::Control;
 use crate::rolling::{ContactLaw, Road, RollingConfig, RollingControl, settled_step};
 use crate::scenario::Scenario;
@@ -184,10 +186,21 @@ pub fn asperity_split(
         par,
         options,
     };
-    if scenario.model.fidelity()? == Fidelity::Calibrated {
+    // A rung the split cannot solve is refused by name: it used to fall
+    // back to the Wilke laws without a word.
+    let fidelity = scenario.model.fidelity()?;
+    if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
+        return Err(invalid(format!(
+            "asperity split: [model] fidelity {fidelity:?} is not supported (wilke or calibrated; \
+             the coupled rungs' steps are not a single solve)"
+        )));
+    }
+    if fidelity == Fidelity::Calibrated {
         let calibrator = Calibrator::new(material, CalibrationOptions::default());
-        let cal = calibrate_rolling_road(&troad, &wilke, &map, &config, &calibrator, par)
-            .map_err(|e| invalid(format!("calibration: {e}")))?;
+        let under = scenario.model.calibrate_under()?;
+        let cal =
+            calibrate_rolling_road_under(&troad, &wilke, &map, &config, &calibrator, par, under)
+                .map_err(|e| invalid(format!("calibration: {e}")))?;
         let radii = cal.kept.iter().map(|&i| radii[i]).collect();
         let road = Road::new(cal.set)
             .with_summit_radii(radii)

@@ -90,3 +90,24 @@ fn the_split_s_sensor_forces_are_the_runs_it_splits() {
         s.bem_sensor
     );
 }
+
+/// A coupled rung's step is not one solve the split can repeat: it is
+/// refused by name, where it used to be split on the Wilke laws without a
+/// word.
+#[test]
+fn a_rung_the_split_cannot_solve_is_refused_by_name() {
+    let text = SCENARIO.replace(
+        "name = \"split\"\n",
+        "name = \"split\"\n[model]\nfidelity = \"calibrated_fields\"\n",
+    );
+    let error = asperity_split(
+        Scenario::parse(&text, "split").expect("scenario"),
+        Path::new("."),
+        &[15e-3],
+        0,
+        Par::Seq,
+        &BemRollingOptions::default(),
+    )
+    .expect_err("calibrated_fields cannot be split");
+    assert!(error.to_string().contains("not supported"), "{error}");
+}
