@@ -4,6 +4,8 @@
 //! measured against the project's BEM rolling reference.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use tyreroad::bem_rolling::{BemRollingOptions, roll_bem, texture_field};
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::rolling::calibrate_rolling_road_under;
@@ -62,34 +64,6 @@ fn sensor(r: &RollingResult, j: usize) -> Vec<f64> {
     r.steps.iter().map(|s| s.sensor_forces[j]).collect()
 }
 
-/// Three ridges along y (the field rung's test map,
-/// `tests/fidelity_rolling_fields.rs`): 6 mm apart, cross-section radius
-/// 4 mm, 10 mm long, each tilted ±3 µm/mm along its length so that its
-/// summit sits at one end, 30 × 20 mm at 0.2 mm.
-fn ridges() -> HeightMap {
-    let (rx, rend, half, yc) = (4e-3, 2e-3, 5e-3, 10e-3);
-    let ridges = [
-        (9e-3, 3e-3, 0.0),
-        (15e-3, -3e-3, 10e-6),
-        (21e-3, 3e-3, 20e-6),
-    ];
-    HeightMap::from_fn(151, 101, 2e-4, 2e-4, move |x, y| {
-        ridges
-            .iter()
-            .map(|&(xk, slope, drop)| {
-                let along = (y - yc).abs() - half;
-                let end = if along > 0.0 {
-                    along * along / (2.0 * rend)
-                } else {
-                    0.0
-                };
-                -(x - xk).powi(2) / (2.0 * rx) - slope * (y - yc) - end - drop
-            })
-            .fold(-1.2e-3, f64::max)
-    })
-    .unwrap()
-}
-
 /// The ridges under a tyre whose crown (radius 1 m across) slopes up to
 /// 0.005 over their ends, against their own tilt of 0.003: the BEM
 /// meets each ridge along its length, a flat punch at its summit end.
@@ -97,7 +71,7 @@ fn ridges() -> HeightMap {
 /// the BEM (the north sensor, half the road across, stays within 1 %).
 #[test]
 fn ridges_calibrated_under_the_tyre_roll_closer_to_the_bem_than_under_a_flat_punch() -> TestResult {
-    let (m, map, load) = (material(), ridges(), 10.0);
+    let (m, map, load) = (material(), common::rolling_ridges(), 10.0);
     let tyre = Tread::Tyre {
         radius_x: 1.0,
         radius_y: 1.0,

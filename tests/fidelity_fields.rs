@@ -7,6 +7,8 @@
 //! BEM on 240 × 240 cells at two loads and three ridge calibrations.)
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::compare::{CompareOptions, compare_texture};
 use tyreroad::fidelity::coupling::{FieldCouplingOptions, field_correction, solve_field_coupled};
@@ -26,27 +28,16 @@ const DEEPEST: f64 = 0.15e-3;
 /// height; valleys between them, the map clipped 1.5 mm below the top.
 /// 24 × 24 mm at 0.1 mm.
 fn ridges() -> HeightMap {
-    let (rx, rend, half, yc) = (4e-3, 2e-3, 9e-3, 12e-3);
-    let ridges = [
-        (6e-3, 2e-3, 0.0),
-        (12e-3, -2e-3, 10e-6),
-        (18e-3, 2e-3, 20e-6),
-    ];
-    HeightMap::from_fn(240, 240, 1e-4, 1e-4, move |x, y| {
-        ridges
-            .iter()
-            .map(|&(xk, slope, drop)| {
-                let along = (y - yc).abs() - half;
-                let end = if along > 0.0 {
-                    along * along / (2.0 * rend)
-                } else {
-                    0.0
-                };
-                -(x - xk).powi(2) / (2.0 * rx) - slope * (y - yc) - end - drop
-            })
-            .fold(-1.5e-3, f64::max)
-    })
-    .unwrap()
+    common::TiltedRidges {
+        size: (240, 240),
+        cell: 1e-4,
+        x: [6e-3, 12e-3, 18e-3],
+        tilt: 2e-3,
+        half_length: 9e-3,
+        y_centre: 12e-3,
+        floor: -1.5e-3,
+    }
+    .map()
 }
 
 #[test]

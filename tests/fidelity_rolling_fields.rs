@@ -6,6 +6,8 @@
 //! point that does not settle recorded as its step's failure.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use tyreroad::bem_rolling::{BemRollingOptions, roll_bem, texture_field};
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::coupling::{FieldCouplingOptions, PairReach, PairSum, solve_field_coupled};
@@ -28,34 +30,6 @@ const LOAD: f64 = 10.0;
 
 fn material() -> Material {
     Material::new(6.54e6, 0.5).unwrap()
-}
-
-/// Three ridges along y, 6 mm apart (cross-section radius 4 mm), 10 mm
-/// long with ends rounded to 2 mm, each tilted by ±3 µm/mm so that its
-/// summit sits at one end (alternating), summits 0, 10 and 20 µm apart in
-/// height; the map clipped 1.2 mm below the top. 30 × 20 mm at 0.2 mm.
-fn ridges() -> HeightMap {
-    let (rx, rend, half, yc) = (4e-3, 2e-3, 5e-3, 10e-3);
-    let ridges = [
-        (9e-3, 3e-3, 0.0),
-        (15e-3, -3e-3, 10e-6),
-        (21e-3, 3e-3, 20e-6),
-    ];
-    HeightMap::from_fn(151, 101, 2e-4, 2e-4, move |x, y| {
-        ridges
-            .iter()
-            .map(|&(xk, slope, drop)| {
-                let along = (y - yc).abs() - half;
-                let end = if along > 0.0 {
-                    along * along / (2.0 * rend)
-                } else {
-                    0.0
-                };
-                -(x - xk).powi(2) / (2.0 * rx) - slope * (y - yc) - end - drop
-            })
-            .fold(-1.2e-3, f64::max)
-    })
-    .unwrap()
 }
 
 /// A nearly flat tyre (1 m radii), 24 × 16 mm, from x = 14 to 16 mm in
@@ -152,7 +126,7 @@ fn balanced(run: &RollingResult) {
 #[test]
 fn field_coupled_ridges_roll_closer_to_the_bem_than_point_coupled_ones() -> TestResult {
     let m = material();
-    let map = ridges();
+    let map = common::rolling_ridges();
     let config = config();
     let road = calibrated_road(&map, &config);
     let point = roll(&road, m, &config, &RunOptions::default())?;
@@ -350,7 +324,7 @@ fn a_long_chipping_s_field_puts_its_load_where_the_bem_does() -> TestResult {
 #[test]
 fn a_fixed_point_that_does_not_settle_is_its_step_s_failure() -> TestResult {
     let m = material();
-    let map = ridges();
+    let map = common::rolling_ridges();
     let mut config = config();
     config.end = config.start + 0.5e-3;
     let road = calibrated_road(&map, &config);

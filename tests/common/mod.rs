@@ -1,0 +1,79 @@
+//! Test maps shared by the integration tests (a test file takes them with
+//! `mod common;`).
+
+use tyreroad::texture::HeightMap;
+
+/// Three ridges along y whose summits sit at alternate ends: cross-section
+/// radius 4 mm, ends rounded to 2 mm, each tilted by `tilt` (±, alternating)
+/// along its length, summits 0, 10 and 20 µm apart in height, the map
+/// clipped at `floor` below the top. The fidelity tests' case where a cap's
+/// contact runs along it and a flat punch meets it at one end.
+pub struct TiltedRidges {
+    /// Grid points along x and y.
+    pub size: (usize, usize),
+    /// Cell size (m).
+    pub cell: f64,
+    /// The ridges' x positions (m).
+    pub x: [f64; 3],
+    /// Tilt along the ridge (m/m).
+    pub tilt: f64,
+    /// Half the straight length (m).
+    pub half_length: f64,
+    /// The ridges' mid-length y (m).
+    pub y_centre: f64,
+    /// Height of the clipping plane (m, below 0).
+    pub floor: f64,
+}
+
+impl TiltedRidges {
+    /// The height map.
+    pub fn map(&self) -> HeightMap {
+        let (rx, rend, half, yc) = (4e-3, 2e-3, self.half_length, self.y_centre);
+        let ridges = [
+            (self.x[0], self.tilt, 0.0),
+            (self.x[1], -self.tilt, 10e-6),
+            (self.x[2], self.tilt, 20e-6),
+        ];
+        let floor = self.floor;
+        HeightMap::from_fn(
+            self.size.0,
+            self.size.1,
+            self.cell,
+            self.cell,
+            move |x, y| {
+                ridges
+                    .iter()
+                    .map(|&(xk, slope, drop)| {
+                        let along = (y - yc).abs() - half;
+                        let end = if along > 0.0 {
+                            along * along / (2.0 * rend)
+                        } else {
+                            0.0
+                        };
+                        -(x - xk).powi(2) / (2.0 * rx) - slope * (y - yc) - end - drop
+                    })
+                    .fold(floor, f64::max)
+            },
+        )
+        .expect("a valid ridge map")
+    }
+}
+
+/// The rolling tests' ridges: 6 mm apart, 10 mm long, tilted ±3 µm/mm,
+/// clipped 1.2 mm below the top, 30 × 20 mm at 0.2 mm.
+#[allow(
+    dead_code,
+    reason = "each test file that includes this module uses part of it"
+)]
+pub fn rolling_ridges() -> HeightMap {
+    TiltedRidges {
+        size: (151, 101),
+        cell: 2e-4,
+        x: [9e-3, 15e-3, 21e-3],
+        tilt: 3e-3,
+        half_length: 5e-3,
+        y_centre: 10e-3,
+        floor: -1.2e-3,
+    }
+    .map()
+}
