@@ -6,7 +6,7 @@
 
 mod common;
 
-use tyreroad::bem_rolling::{BemRollingOptions, roll_bem, texture_field};
+use tyreroad::bem_rolling::{BemRollingOptions, BemRollingResult, roll_bem, texture_field};
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::rolling::calibrate_rolling_road_under;
 use tyreroad::fidelity::rolling_fields::FieldRolling;
@@ -48,6 +48,27 @@ fn calibrated(
 }
 
 /// Largest per-step `|model − reference|` over `scale`.
+/// The BEM rolling reference of `config` on `map`: the run, its approaches
+/// and their mean.
+fn bem_reference(
+    map: &HeightMap,
+    m: Material,
+    config: &RollingConfig,
+) -> Result<(BemRollingResult, Vec<f64>, f64), Box<dyn std::error::Error>> {
+    let bem = roll_bem(
+        &texture_field(map)?,
+        m,
+        config,
+        &BemRollingOptions {
+            par: Par::Seq,
+            ..BemRollingOptions::default()
+        },
+    )?;
+    let approaches: Vec<f64> = bem.steps.iter().map(|s| s.approach).collect();
+    let mean = approaches.iter().sum::<f64>() / approaches.len() as f64;
+    Ok((bem, approaches, mean))
+}
+
 fn max_error(model: &[f64], reference: &[f64], scale: f64) -> f64 {
     model
         .iter()
@@ -97,17 +118,7 @@ fn ridges_calibrated_under_the_tyre_roll_closer_to_the_bem_than_under_a_flat_pun
             y: [0.0, 1.0],
         },
     ];
-    let bem = roll_bem(
-        &texture_field(&map)?,
-        m,
-        &config,
-        &BemRollingOptions {
-            par: Par::Seq,
-            ..BemRollingOptions::default()
-        },
-    )?;
-    let bem_a: Vec<f64> = bem.steps.iter().map(|s| s.approach).collect();
-    let mean = bem_a.iter().sum::<f64>() / bem_a.len() as f64;
+    let (bem, bem_a, mean) = bem_reference(&map, m, &config)?;
     let bem_north: Vec<f64> = bem.steps.iter().map(|s| s.sensor_forces[1]).collect();
     let mut rows = Vec::new();
     for under in [CalibrateUnder::Flat, CalibrateUnder::Tread] {
@@ -175,17 +186,7 @@ fn a_paraboloid_beside_the_path_rolls_as_the_bem_under_either_calibration() -> T
         RollingConfig::new(tyre, [14e-3, 16e-3, 1e-3], 10.0, RollingControl::Load(load));
     config.lateral = -0.04;
     config.contact_slope = ContactSlope::Profile;
-    let bem = roll_bem(
-        &texture_field(&map)?,
-        m,
-        &config,
-        &BemRollingOptions {
-            par: Par::Seq,
-            ..BemRollingOptions::default()
-        },
-    )?;
-    let bem_a: Vec<f64> = bem.steps.iter().map(|s| s.approach).collect();
-    let mean = bem_a.iter().sum::<f64>() / bem_a.len() as f64;
+    let (_, bem_a, mean) = bem_reference(&map, m, &config)?;
     // Hertz for the cap against the tread's crown: radii R Rx/(R + Rx) and
     // R Ry/(R + Ry), their geometric mean (the two differ by 0.4 %).
     let re = (r * rx / (r + rx) * r * ry / (r + ry)).sqrt();

@@ -289,6 +289,11 @@ fn a_cap_the_tyre_lifts_is_tabulated_only_as_deep_as_the_path_presses_it() -> Te
         past.contacts >= past.steps && past.worst_ratio > 1.5,
         "{past:?}"
     );
+    assert!(
+        past.warning()
+            .is_some_and(|w| w.contains("past their calibration tables"))
+    );
+    assert_eq!(PastTables::default().warning(), None);
     Ok(())
 }
 

@@ -125,6 +125,21 @@ pub struct PastTables {
     pub worst_ratio: f64,
 }
 
+impl PastTables {
+    /// What a run's user is told when contacts went past their tables
+    /// (`None` when none did).
+    pub fn warning(&self) -> Option<String> {
+        (self.contacts > 0).then(|| {
+            format!(
+                "at {} step(s) {} contact(s) were pressed past their calibration tables \
+                 (up to {:.2}× the force at the last knot; the laws continue linearly there): \
+                 the road's calibrated approach runs deeper than the tables' bound",
+                self.steps, self.contacts, self.worst_ratio
+            )
+        })
+    }
+}
+
 /// Counts the contacts of `result` (a run on `road`) whose force exceeds
 /// the force at their law's last tabulated depth. The tables are sized to
 /// cover a run (`1.3 ×` the Wilke model's largest approach, less each cap's

@@ -133,7 +133,8 @@ pub fn calibrated_set(
 /// current pool, each cap under `shape` (with how far its asperity is
 /// lifted, [`super::under_tread`]). `lifts` (m, one per index, or empty for
 /// none) is how far the tread's profile at least keeps each asperity from
-/// the approach (a rolling path: [`super::rolling::profile_lifts`]); a
+/// the approach (a rolling path: [`super::rolling::profile_lifts`];
+/// missing entries are no lift); a
 /// lifted asperity can only be pressed `max_approach − (top − z_i) −
 /// lift_i` deep, so its table stops there (with the same floor) instead of
 /// paying for depths the run cannot reach.
@@ -150,20 +151,6 @@ pub(crate) fn calibrated_laws(
     lifts: &[f64],
     shape: &CapShape,
 ) -> Result<Vec<(CalibratedLaw, f64)>, FidelityError> {
-    if !(lifts.is_empty() || lifts.len() == indices.len()) {
-        return Err(FidelityError::invalid(
-            "profile lifts",
-            lifts.len(),
-            format!("none or one per asperity ({})", indices.len()),
-        ));
-    }
-    if let Some(bad) = lifts.iter().find(|l| !(l.is_finite() && **l >= 0.0)) {
-        return Err(FidelityError::invalid(
-            "profile lift",
-            bad,
-            "finite and ≥ 0 m",
-        ));
-    }
     if road.segmentation.size() != (map.nx(), map.ny()) {
         return Err(FidelityError::invalid(
             "height map",
@@ -192,14 +179,15 @@ pub(crate) fn calibrated_laws(
                 ));
             };
             let a = &road.segmentation.asperities()[k];
-            let lift = lifts.get(n).copied().unwrap_or(0.0);
+            // A missing or non-positive lift is no lift: a deeper table,
+            // never a shorter one.
+            let lift = lifts.get(n).copied().filter(|l| *l > 0.0).unwrap_or(0.0);
             let depth = (max_approach - (top - z) - lift).max(0.1 * max_approach);
             let shaped = shape.patch(map, a, i, depth)?;
             let patch = shaped.patch;
-            // The top cell may lie below a refined summit: the table must
-            // reach past it.
             // A cap raised to touch where its shape says is pressed deeper
-            // by as much.
+            // by as much; the top cell may lie below a refined summit, and
+            // the table must reach past it.
             let depth = (depth + shaped.lift).max(2.0 * patch.summit_offset());
             Ok((calibrator.law(&patch, depth)?, shaped.lift))
         })

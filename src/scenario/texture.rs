@@ -57,8 +57,10 @@ pub struct CalibrationSummary {
     pub max_approach: f64,
     /// Wall time of the approach bound and the calibration.
     pub time: std::time::Duration,
-    /// Contacts the run pressed past their tables (filled once the whole
-    /// run is rolled; zero for a part of a distributed run).
+    /// Contacts the run pressed past their tables (filled once a whole
+    /// elastic run is rolled; not counted, so zero, for a part of a
+    /// distributed run and for a viscoelastic run, whose forces are not
+    /// its laws' at one depth).
     pub past_tables: PastTables,
 }
 

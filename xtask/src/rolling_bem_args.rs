@@ -68,21 +68,6 @@ pub struct RollingBemArgs {
     pub bem_from: Option<PathBuf>,
 }
 
-/// Says when a calibrated run pressed contacts past their tables (their
-/// laws continued linearly there), shared by `run` and `rolling-bem`.
-pub(crate) fn warn_past_tables(past: &tyreroad::fidelity::rolling::PastTables) {
-    if past.contacts > 0 {
-        say!(
-            "warning: at {} step(s) {} contact(s) were pressed past their calibration tables \
-             (up to {:.2}× the force at the last knot; the laws continue linearly there): \
-             the road's calibrated approach runs deeper than the tables' bound",
-            past.steps,
-            past.contacts,
-            past.worst_ratio
-        );
-    }
-}
-
 /// One row of the comparison table: per-step and band errors of a signal.
 pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
     say!(

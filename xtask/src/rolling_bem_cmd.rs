@@ -135,7 +135,9 @@ fn print_report(name: &str, run: &BemRollingRun) {
             cal.max_approach * 1e3,
             cal.time.as_secs_f64()
         );
-        crate::rolling_bem_args::warn_past_tables(&cal.past_tables);
+        if let Some(warning) = cal.past_tables.warning() {
+            say!("warning: {warning}");
+        }
     }
     if let Some(f) = &run.field_rung {
         let st = &f.stats;

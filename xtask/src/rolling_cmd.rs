@@ -151,7 +151,9 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
             cal.from_disk,
             cal.time.as_secs_f64()
         );
-        crate::rolling_bem_args::warn_past_tables(&cal.past_tables);
+        if let Some(warning) = cal.past_tables.warning() {
+            say!("warning: {warning}");
+        }
     }
     let signals = run.signals;
     let total = signals.len();
