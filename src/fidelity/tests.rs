@@ -254,7 +254,7 @@ fn a_paraboloid_field_is_centred_and_has_the_hertz_spread() {
 }
 
 /// The default (cheap) options against the reference on the paraboloid:
-/// the same knots, forces within 1e-5 of the largest, areas within a
+/// the same knots, forces within 2e-4 of the largest, areas within a
 /// cell; and a disk cache written under one set of options is not read
 /// back under another (the key hashes them).
 #[test]
@@ -266,7 +266,7 @@ fn the_default_options_give_the_reference_table_and_their_own_cache_entries() {
     let (f_top, cell) = (reference.force_at(f_max).0, 5e-5 * 5e-5);
     for ((d1, f1, a1), (d2, f2, a2)) in reference.knots().zip(cheap.knots()) {
         assert_eq!(d1, d2);
-        assert!((f1 - f2).abs() <= 1e-5 * f_top, "δ = {d1}: {f1} vs {f2}");
+        assert!((f1 - f2).abs() <= 2e-4 * f_top, "δ = {d1}: {f1} vs {f2}");
         assert!((a1 - a2).abs() <= 1.5 * cell, "δ = {d1}: {a1} vs {a2}");
     }
     // The cheap table did less BEM work (iterations × cells).
