@@ -19,7 +19,9 @@ use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
 use crate::charts::{Series, line_chart};
-use crate::rolling_bem_args::{RollingBemArgs, compared_step_rows, print_report_row};
+use crate::rolling_bem_args::{
+    RollingBemArgs, compared_step_rows, print_report_header, print_report_row,
+};
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
@@ -165,17 +167,10 @@ fn print_report(name: &str, run: &BemRollingRun) {
         );
     }
     say!(
-        "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
+        "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *; a transient's bands all are)",
         c.resolved_from
     );
-    say!(
-        "{:<22} {:>12} {:>12} {:>14} {:>14}",
-        "signal",
-        "max err %",
-        "rms err %",
-        "max |ΔdB| all",
-        "max |ΔdB| res."
-    );
+    print_report_header();
     let row = print_report_row;
     row("total force", &c.total);
     row("approach", &c.approach);
@@ -269,7 +264,12 @@ struct BandRow<'a> {
     bem_db: f64,
     #[serde(serialize_with = "fmt::fixed3")]
     difference_db: f64,
+    /// The error signal's level re the BEM's in the band.
+    #[serde(serialize_with = "fmt::fixed3")]
+    error_db: f64,
     resolved: bool,
+    /// "welch" or "transient" (docs/validation.md, "Where the bands miss").
+    spectrum: &'static str,
 }
 
 fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
@@ -349,7 +349,9 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             model_db: b.model_db,
             bem_db: b.reference_db,
             difference_db: b.difference_db,
+            error_db: b.error_db,
             resolved: b.resolved,
+            spectrum: s.spectrum.name(),
         }));
     }
     set.write_csv("rolling_bem_bands.csv", &bands)?;
