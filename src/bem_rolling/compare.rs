@@ -347,6 +347,81 @@ pub(super) fn signal(
     })
 }
 
+/// A signal's levels the given way (Welch with `segment`, or as a
+/// transient), re `reference`.
+fn levels(
+    x: &[f64],
+    kind: SpectrumKind,
+    sample_rate: f64,
+    reference: f64,
+    segment: Option<usize>,
+) -> Result<Vec<BandLevel>, BemRollingError> {
+    match kind {
+        SpectrumKind::Welch => third_octave_policy(x, sample_rate, reference, segment),
+        SpectrumKind::Transient => transient_policy(x, sample_rate, reference),
+    }
+}
+
+/// Is the reference converged in the bands compared? A second BEM run
+/// `check` of the same stretch (another grid: the texture at twice the
+/// spacing, say) in the model's place against `reference`: the approach,
+/// then each sensor, per step and per band under the same rules as
+/// [`compare`]. Each band's `error_db` is the level of `check −
+/// reference` re the reference's: a model's error far above it is the
+/// model's.
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] when the runs differ in steps, rate
+/// or sensors, or a spectrum cannot be computed.
+pub fn compare_references(
+    check: &BemRollingResult,
+    reference: &BemRollingResult,
+    sensors: &[Sensor],
+    reference_force: f64,
+    segment: Option<usize>,
+) -> Result<Vec<SignalComparison>, BemRollingError> {
+    let n = reference.steps.len();
+    let differ = check.steps.len() != n
+        || check.sample_rate != reference.sample_rate
+        || check
+            .steps
+            .iter()
+            .chain(&reference.steps)
+            .any(|s| s.sensor_forces.len() != sensors.len());
+    if differ {
+        return Err(BemRollingError::InvalidInput(format!(
+            "the BEM runs differ: {} and {n} steps at {} and {} Hz, {} sensors expected",
+            check.steps.len(),
+            check.sample_rate,
+            reference.sample_rate,
+            sensors.len()
+        )));
+    }
+    let fs = reference.sample_rate;
+    let resolved_from = rolling::resolved_from(fs, rolling::effective_segment_len(n, segment));
+    let forces = |x: &[f64], kind| levels(x, kind, fs, reference_force, segment);
+    let microns = |x: &[f64], kind| levels(x, kind, fs, 1e-6, segment);
+    let mut out = vec![signal(
+        "approach",
+        &check.approach(),
+        &reference.approach(),
+        Scale::Mean,
+        &microns,
+        resolved_from,
+    )?];
+    for (k, s) in sensors.iter().enumerate() {
+        out.push(signal(
+            &s.name,
+            &check.sensor(k),
+            &reference.sensor(k),
+            Scale::Peak,
+            &forces,
+            resolved_from,
+        )?);
+    }
+    Ok(out)
+}
+
 /// Compares the multipoint run `model` (its sensors `sensors`, the road's
 /// summits `positions` by id) with the BEM reference `reference` over the
 /// same path: per-step errors and band levels (forces in dB re
@@ -386,12 +461,8 @@ pub fn compare(
     }
     let fs = model.sample_rate;
     let resolved_from = rolling::resolved_from(fs, rolling::effective_segment_len(n, segment));
-    let levels = |x: &[f64], kind, reference| match kind {
-        SpectrumKind::Welch => third_octave_policy(x, fs, reference, segment),
-        SpectrumKind::Transient => transient_policy(x, fs, reference),
-    };
-    let forces = |x: &[f64], kind| levels(x, kind, reference_force);
-    let microns = |x: &[f64], kind| levels(x, kind, 1e-6);
+    let forces = |x: &[f64], kind| levels(x, kind, fs, reference_force, segment);
+    let microns = |x: &[f64], kind| levels(x, kind, fs, 1e-6, segment);
     let total = signal(
         "total",
         &model.total_force(),

@@ -5,7 +5,11 @@
 use std::f64::consts::PI;
 
 use super::compare::{Scale, SignalComparison, SpectrumKind, signal};
-use super::{BemRollingError, ERROR_DB_FOR_1DB, third_octave_policy, transient_policy};
+use super::{
+    BemRollingError, BemRollingResult, BemStep, ERROR_DB_FOR_1DB, compare_references,
+    third_octave_policy, transient_policy,
+};
+use crate::rolling::{Sensor, StepStatus};
 
 /// The rolling fixtures' rate: 1 mm steps at 50 km/h.
 const FS: f64 = 13_888.888_888_888_89;
@@ -118,5 +122,60 @@ fn the_error_level_bounds_the_band_difference() -> Result<(), BemRollingError> {
         // Not vacuous: some band holds an error within 20 dB of its level.
         assert!(c.bands.iter().any(|b| b.error_db > -20.0), "{kind:?}");
     }
+    Ok(())
+}
+
+/// A BEM run of 171 steps: an approach that runs through the stretch and
+/// one sensor's passage, each scaled by `scale`.
+fn bem_run(scale: f64) -> BemRollingResult {
+    let force = passage(0.05);
+    BemRollingResult {
+        steps: (0..171)
+            .map(|j| BemStep {
+                index: j,
+                position: 0.065 + 1e-3 * j as f64,
+                time: j as f64 / FS,
+                total_force: 1500.0,
+                approach: scale * (6.7e-3 + 2e-6 * (0.9 * j as f64).sin()),
+                contact_area: 1e-3,
+                iterations: 1,
+                status: StepStatus::Converged,
+                sensor_forces: vec![scale * force[j]],
+            })
+            .collect(),
+        sample_rate: FS,
+        window: (0, 0),
+    }
+}
+
+/// Two BEM runs of the same stretch compared band by band: a run against
+/// itself changes nothing (error `−∞`, difference 0 in every band), a run
+/// 1 % off puts the error at `20 log10 0.01 = −40 dB` in every band of
+/// both signals (1e-6 dB: the approach loses digits to its mean), the
+/// passage as a transient, the approach by Welch; runs of different
+/// lengths are refused.
+#[test]
+fn a_second_bem_run_is_compared_band_by_band() -> Result<(), BemRollingError> {
+    let sensors = [Sensor {
+        name: "centre".into(),
+        x: [0.105, 0.125],
+        y: [-0.01, 0.01],
+    }];
+    let reference = bem_run(1.0);
+    let same = compare_references(&reference, &reference, &sensors, 1.0, Some(170))?;
+    assert_eq!(same.len(), 2);
+    for s in &same {
+        assert!(s.bands.iter().all(|b| b.error_db == f64::NEG_INFINITY));
+        assert!(s.bands.iter().all(|b| b.difference_db == 0.0));
+    }
+    let off = compare_references(&bem_run(1.01), &reference, &sensors, 1.0, Some(170))?;
+    assert_eq!(off[0].spectrum, SpectrumKind::Welch);
+    assert_eq!(off[1].spectrum, SpectrumKind::Transient);
+    for b in off.iter().flat_map(|s| &s.bands) {
+        assert!((b.error_db + 40.0).abs() < 1e-6, "{b:?}");
+    }
+    let mut short = bem_run(1.0);
+    short.steps.pop();
+    assert!(compare_references(&short, &reference, &sensors, 1.0, Some(170)).is_err());
     Ok(())
 }

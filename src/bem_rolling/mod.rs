@@ -68,7 +68,7 @@ mod visco_compare;
 pub use caps::cap_sensor_forces;
 pub use compare::{
     BandComparison, ERROR_DB_FOR_1DB, RollingComparison, SignalComparison, SpectrumKind, compare,
-    summit_sensor_forces, third_octave_policy, transient_policy,
+    compare_references, summit_sensor_forces, third_octave_policy, transient_policy,
 };
 pub use refine::{
     GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,

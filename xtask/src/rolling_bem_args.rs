@@ -66,6 +66,12 @@ pub struct RollingBemArgs {
     /// again.
     #[arg(long, conflicts_with = "viscoelastic")]
     pub bem_from: Option<PathBuf>,
+    /// Is the reference converged in the bands compared? A second BEM run
+    /// of the same stretch (another grid) that an earlier `rolling-bem`
+    /// wrote to this directory, compared with this run's BEM as the model
+    /// is (rows "BEM check"; docs/validation.md, "Where the bands miss").
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub bem_check: Option<PathBuf>,
 }
 
 /// One row of the comparison table: per-step and band errors of a signal.

@@ -12,7 +12,8 @@ use std::path::Path;
 use anyhow::Result;
 use serde::Serialize;
 use tyreroad::bem_rolling::{
-    BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison_against,
+    BemRollingOptions, BemRollingRun, SignalComparison, Stretch, compare_references,
+    run_scenario_comparison_against,
 };
 use tyreroad::fidelity::Fidelity;
 use tyreroad::scenario::output::{OutputSet, fmt};
@@ -80,6 +81,16 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
         None => None,
     };
+    let check = match &args.bem_check {
+        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
+        None => None,
+    };
+    let spectra = scenario.rolling.as_ref().map_or((args.segment, 1.0), |r| {
+        (
+            args.segment.or(r.segment),
+            r.reference_force.map_or(1.0, |f| f.value()),
+        )
+    });
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));
     let options = BemRollingOptions {
@@ -99,8 +110,21 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         saved,
     )?;
     print_report(&name, &run);
+    let checked = match check {
+        Some(check) => {
+            let (segment, reference_force) = spectra;
+            let sensors = &run.multipoint.config.sensors;
+            let c = compare_references(&check, &run.bem, sensors, reference_force, segment)?;
+            say!("the second BEM run (--bem-check) against this one:");
+            for s in &c {
+                print_report_row(&format!("{} (BEM check)", s.name), s);
+            }
+            c
+        }
+        None => Vec::new(),
+    };
     let mut set = OutputSet::new(&args.out)?;
-    write_outputs(&run, &mut set)?;
+    write_outputs(&run, &checked, &mut set)?;
     for path in set.commit()? {
         say!("wrote {}", path.display());
     }
@@ -272,7 +296,11 @@ struct BandRow<'a> {
     spectrum: &'static str,
 }
 
-fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
+fn write_outputs(
+    run: &BemRollingRun,
+    checked: &[SignalComparison],
+    set: &mut OutputSet,
+) -> Result<()> {
     let mp = &run.multipoint.result;
     let steps = compared_step_rows(mp, &run.bem);
     set.write_csv("rolling_bem_steps.csv", &steps)?;
@@ -340,7 +368,8 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             .iter()
             .flat_map(|f| f.discs.1.sensors.iter())
             .map(|s| (s.name.as_str(), "discs", s)),
-    );
+    )
+    .chain(checked.iter().map(|s| (s.name.as_str(), "bem check", s)));
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {
             signal,
