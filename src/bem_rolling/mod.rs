@@ -67,8 +67,8 @@ mod visco_compare;
 
 pub use caps::cap_sensor_forces;
 pub use compare::{
-    BandComparison, RollingComparison, SignalComparison, compare, summit_sensor_forces,
-    third_octave_policy,
+    BandComparison, ERROR_DB_FOR_1DB, RollingComparison, SignalComparison, SpectrumKind, compare,
+    compare_references, summit_sensor_forces, third_octave_policy, transient_policy,
 };
 pub use refine::{
     GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,
@@ -538,6 +538,8 @@ fn sensor_force(sensor: &Sensor, p: &[f64], w: Window, road: &Grid) -> f64 {
 
 #[cfg(test)]
 mod caps_tests;
+#[cfg(test)]
+mod compare_tests;
 #[cfg(test)]
 mod refine_tests;
 #[cfg(test)]

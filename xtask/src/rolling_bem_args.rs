@@ -66,17 +66,47 @@ pub struct RollingBemArgs {
     /// again.
     #[arg(long, conflicts_with = "viscoelastic")]
     pub bem_from: Option<PathBuf>,
+    /// Is the reference converged in the bands compared? A second BEM run
+    /// of the same stretch (another grid) that an earlier `rolling-bem`
+    /// wrote to this directory, compared with this run's BEM as the model
+    /// is (rows "BEM check"; docs/validation.md, "Where the bands miss").
+    #[arg(long, conflicts_with = "viscoelastic")]
+    pub bem_check: Option<PathBuf>,
 }
 
 /// One row of the comparison table: per-step and band errors of a signal.
 pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
     say!(
-        "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2}",
+        "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2} {:>14.1} {:>10}",
         label,
         100.0 * s.max_error,
         100.0 * s.rms_error,
         s.max_band_db(),
-        s.max_resolved_band_db()
+        s.max_resolved_band_db(),
+        s.max_resolved_error_db(),
+        s.spectrum.name()
+    );
+}
+
+/// The header of [`print_report_row`]'s table, with what its last two
+/// columns mean.
+pub(crate) fn print_report_header() {
+    say!(
+        "bands: \"transient\" for a signal at rest at both ends of the stretch in both runs \
+         (the whole record, no window: every band resolved), else \"welch\"; \
+         err dB = the error signal's level re the BEM's in the band \
+         (within 1 dB whatever its phase at or below {:.1} dB)",
+        tyreroad::bem_rolling::ERROR_DB_FOR_1DB
+    );
+    say!(
+        "{:<22} {:>12} {:>12} {:>14} {:>14} {:>14} {:>10}",
+        "signal",
+        "max err %",
+        "rms err %",
+        "max |ΔdB| all",
+        "max |ΔdB| res.",
+        "max err dB res.",
+        "bands"
     );
 }
 

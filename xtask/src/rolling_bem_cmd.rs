@@ -12,14 +12,17 @@ use std::path::Path;
 use anyhow::Result;
 use serde::Serialize;
 use tyreroad::bem_rolling::{
-    BemRollingOptions, BemRollingRun, Stretch, run_scenario_comparison_against,
+    BemRollingOptions, BemRollingRun, SignalComparison, Stretch, compare_references,
+    run_scenario_comparison_against,
 };
 use tyreroad::fidelity::Fidelity;
 use tyreroad::scenario::output::{OutputSet, fmt};
 use tyreroad::scenario::{Par, Scenario};
 
 use crate::charts::{Series, line_chart};
-use crate::rolling_bem_args::{RollingBemArgs, compared_step_rows, print_report_row};
+use crate::rolling_bem_args::{
+    RollingBemArgs, compared_step_rows, print_report_header, print_report_row,
+};
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
@@ -78,6 +81,16 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
         None => None,
     };
+    let check = match &args.bem_check {
+        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
+        None => None,
+    };
+    let spectra = scenario.rolling.as_ref().map_or((args.segment, 1.0), |r| {
+        (
+            args.segment.or(r.segment),
+            r.reference_force.map_or(1.0, |f| f.value()),
+        )
+    });
     let name = scenario.name.clone();
     let base = args.scenario.parent().unwrap_or(Path::new("."));
     let options = BemRollingOptions {
@@ -97,8 +110,21 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         saved,
     )?;
     print_report(&name, &run);
+    let checked = match check {
+        Some(check) => {
+            let (segment, reference_force) = spectra;
+            let sensors = &run.multipoint.config.sensors;
+            let c = compare_references(&check, &run.bem, sensors, reference_force, segment)?;
+            say!("the second BEM run (--bem-check) against this one:");
+            for s in &c {
+                print_report_row(&format!("{} (BEM check)", s.name), s);
+            }
+            c
+        }
+        None => Vec::new(),
+    };
     let mut set = OutputSet::new(&args.out)?;
-    write_outputs(&run, &mut set)?;
+    write_outputs(&run, &checked, &mut set)?;
     for path in set.commit()? {
         say!("wrote {}", path.display());
     }
@@ -165,17 +191,10 @@ fn print_report(name: &str, run: &BemRollingRun) {
         );
     }
     say!(
-        "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *)",
+        "bands from {:.0} Hz up are resolved by the Welch segment (unresolved bands marked *; a transient's bands all are)",
         c.resolved_from
     );
-    say!(
-        "{:<22} {:>12} {:>12} {:>14} {:>14}",
-        "signal",
-        "max err %",
-        "rms err %",
-        "max |ΔdB| all",
-        "max |ΔdB| res."
-    );
+    print_report_header();
     let row = print_report_row;
     row("total force", &c.total);
     row("approach", &c.approach);
@@ -269,10 +288,19 @@ struct BandRow<'a> {
     bem_db: f64,
     #[serde(serialize_with = "fmt::fixed3")]
     difference_db: f64,
+    /// The error signal's level re the BEM's in the band.
+    #[serde(serialize_with = "fmt::fixed3")]
+    error_db: f64,
     resolved: bool,
+    /// "welch" or "transient" (docs/validation.md, "Where the bands miss").
+    spectrum: &'static str,
 }
 
-fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
+fn write_outputs(
+    run: &BemRollingRun,
+    checked: &[SignalComparison],
+    set: &mut OutputSet,
+) -> Result<()> {
     let mp = &run.multipoint.result;
     let steps = compared_step_rows(mp, &run.bem);
     set.write_csv("rolling_bem_steps.csv", &steps)?;
@@ -340,7 +368,8 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             .iter()
             .flat_map(|f| f.discs.1.sensors.iter())
             .map(|s| (s.name.as_str(), "discs", s)),
-    );
+    )
+    .chain(checked.iter().map(|s| (s.name.as_str(), "bem check", s)));
     for (signal, accounting, s) in labelled {
         bands.extend(s.bands.iter().map(|b| BandRow {
             signal,
@@ -349,7 +378,9 @@ fn write_outputs(run: &BemRollingRun, set: &mut OutputSet) -> Result<()> {
             model_db: b.model_db,
             bem_db: b.reference_db,
             difference_db: b.difference_db,
+            error_db: b.error_db,
             resolved: b.resolved,
+            spectrum: s.spectrum.name(),
         }));
     }
     set.write_csv("rolling_bem_bands.csv", &bands)?;

@@ -23,7 +23,9 @@ use tyreroad::scenario::{Par, Scenario};
 use tyreroad::shared::Material;
 use tyreroad::viscoelastic::{Branch, Prony};
 
-use crate::rolling_bem_args::{RollingBemArgs, compared_step_rows, print_report_row};
+use crate::rolling_bem_args::{
+    RollingBemArgs, compared_step_rows, print_report_header, print_report_row,
+};
 
 /// Rolls the scenario's viscoelastic tread over the stretch by the
 /// multipoint model and by the viscoelastic BEM; prints the comparison,
@@ -99,14 +101,7 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
         1e3 * mean(&run.multipoint.result.approach()),
         1e3 * mean(&run.bem.approach())
     );
-    say!(
-        "{:<22} {:>12} {:>12} {:>14} {:>14}",
-        "signal",
-        "max err %",
-        "rms err %",
-        "max |ΔdB| all",
-        "max |ΔdB| res."
-    );
+    print_report_header();
     print_report_row("total force", &c.total);
     print_report_row("approach", &c.approach);
     for s in &c.sensors {
@@ -139,7 +134,12 @@ struct ComparedBand<'a> {
     bem_db: f64,
     #[serde(serialize_with = "fmt::fixed3")]
     difference_db: f64,
+    /// The error signal's level re the BEM's in the band.
+    #[serde(serialize_with = "fmt::fixed3")]
+    error_db: f64,
     resolved: bool,
+    /// "welch" or "transient" (docs/validation.md, "Where the bands miss").
+    spectrum: &'static str,
 }
 
 fn write_comparison(run: &ViscoBemRollingRun, set: &mut OutputSet) -> Result<()> {
@@ -171,7 +171,9 @@ fn write_comparison(run: &ViscoBemRollingRun, set: &mut OutputSet) -> Result<()>
                 model_db: b.model_db,
                 bem_db: b.reference_db,
                 difference_db: b.difference_db,
+                error_db: b.error_db,
                 resolved: b.resolved,
+                spectrum: s.spectrum.name(),
             })
         })
         .collect();
