@@ -469,15 +469,26 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
     }
     // A tread to calibrate under exists only in a rolling run on a
     // texture's calibrated laws.
-    if scenario.model.calibrate_under()? == CalibrateUnder::Tread
+    let under = scenario.model.calibrate_under()?;
+    if under != CalibrateUnder::Flat
         && !(rolling_texture
             && matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields))
     {
         return Err(bad(
             "[model] calibrate_under",
-            "\"tread\"",
+            &format!("{:?}", under.name()),
             "\"flat\" unless [model] fidelity is \"calibrated\" or \"calibrated_fields\" \
              in a [rolling] run on a [texture]",
+        ));
+    }
+    // The hereditary step solves its own laws per step and does not place
+    // them along the path (crate::fidelity::rolling::calibrated_rolling_road).
+    if under == CalibrateUnder::TreadSlope && scenario.material.viscoelastic.is_some() {
+        return Err(bad(
+            "[model] calibrate_under",
+            "\"tread_slope\"",
+            "\"flat\" or \"tread\" on a viscoelastic tread (laws placed along the path \
+             are elastic only)",
         ));
     }
     Ok(())
