@@ -265,7 +265,7 @@ pub fn calibrate_rolling_road_under(
     let lifts = profile_lifts(wilke, config, &kept);
     let laws = match under {
         CalibrateUnder::TreadSlope => {
-            let nodes = slope_nodes(&config.tread, max_approach);
+            let nodes = slope_nodes(&config.tread, config.margin);
             let mut by_node = Vec::with_capacity(nodes.len());
             for &xi in &nodes {
                 let shape = cap_shape(wilke, config, &kept, under, xi);

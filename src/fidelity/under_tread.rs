@@ -98,23 +98,19 @@ impl FromStr for CalibrateUnder {
 pub const SLOPE_NODES: usize = 5;
 
 /// The offsets `ξ` (m) of [`CalibrateUnder::TreadSlope`]'s nodes:
-/// [`SLOPE_NODES`] evenly spaced over `[−a, a]`, `a` the half-length over
-/// which the tread reaches `max_approach` below its lowest point
-/// (`√(2 Rx δ)`), at most the footprint's half-length. A cap further out
-/// cannot touch at the tables' approach, so the slopes the path meets
-/// under load lie within the nodes; one node at `ξ = 0` under a block
-/// (no slope to follow).
-pub fn slope_nodes(tread: &Tread, max_approach: f64) -> Vec<f64> {
-    let Tread::Tyre {
-        radius_x, length, ..
-    } = *tread
-    else {
+/// [`SLOPE_NODES`] evenly spaced over `[−a, a]`, `a = L/2 + m` the
+/// half-length of the window that selects an asperity (footprint and
+/// `margin`): every offset at which a step can hand a cap its law. (The
+/// approach alone would bound them closer, `√(2 Rx δ0)`, for a cap that
+/// touches at its summit; a long cap whose summit lies at one end touches
+/// with its other end further out.) One node at `ξ = 0` under a block (no
+/// slope to follow).
+pub fn slope_nodes(tread: &Tread, margin: f64) -> Vec<f64> {
+    let Tread::Tyre { length, .. } = *tread else {
         return vec![0.0];
     };
-    let a = (2.0 * radius_x * max_approach.max(0.0))
-        .sqrt()
-        .min(0.5 * length);
-    if !(a > 0.0) {
+    let a = 0.5 * length + tread.effective_margin(margin).max(0.0);
+    if !(a > 0.0 && a.is_finite()) {
         return vec![0.0];
     }
     let h = (SLOPE_NODES - 1) as f64;
@@ -340,11 +336,25 @@ mod tests {
             "tread".parse::<CalibrateUnder>().unwrap(),
             CalibrateUnder::Tread
         );
+        assert_eq!(
+            "tread_slope".parse::<CalibrateUnder>().unwrap(),
+            CalibrateUnder::TreadSlope
+        );
         let e = "tilted".parse::<CalibrateUnder>().unwrap_err().to_string();
         assert!(
-            e.contains("calibrate_under") && e.contains("\"tread\""),
+            e.contains("calibrate_under") && e.contains("\"tread_slope\""),
             "{e}"
         );
+        // Nodes over the selection window; one under a block.
+        assert_eq!(
+            slope_nodes(&tyre(), 0.02),
+            [-0.07, -0.035, 0.0, 0.035, 0.07]
+        );
+        let block = Tread::Block {
+            length: 0.1,
+            width: 0.1,
+        };
+        assert_eq!(slope_nodes(&block, 0.02), [0.0]);
         assert_eq!(CalibrateUnder::default(), CalibrateUnder::Flat);
     }
 

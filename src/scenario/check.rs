@@ -501,6 +501,7 @@ mod tests {
 
     const PAPER: &str = include_str!("../../fixtures/paper_25_spheres.toml");
     const ROLLING: &str = include_str!("../../fixtures/rolling_tyre_dense_asphalt.toml");
+    const VISCO: &str = include_str!("../../fixtures/rolling_tyre_dense_asphalt_visco.toml");
 
     /// `base` with `from` replaced by `to` must be refused with a message
     /// naming `key`.
@@ -587,6 +588,28 @@ mod tests {
             PAPER,
             "[material]",
             "[model]\ncalibrate_under = \"tread\"\n\n[material]",
+            "[model] calibrate_under",
+        );
+        // Along the path: the same places, elastic treads only.
+        let slope = Scenario::parse(
+            &rolling("fidelity = \"calibrated_fields\"\ncalibrate_under = \"tread_slope\""),
+            "case",
+        )
+        .unwrap();
+        assert_eq!(
+            slope.model.calibrate_under().unwrap(),
+            crate::fidelity::under_tread::CalibrateUnder::TreadSlope
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("calibrate_under = \"tread_slope\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            VISCO,
+            "[rolling]",
+            &model("fidelity = \"calibrated\"\ncalibrate_under = \"tread_slope\""),
             "[model] calibrate_under",
         );
     }

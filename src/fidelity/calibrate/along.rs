@@ -13,13 +13,15 @@
 //! between nodes `k` and `k + 1`, `t = (ξ − ξ_k)/(ξ_{k+1} − ξ_k)`:
 //!
 //! ```text
-//! P(δ; ξ) = (1 − t) T_k(δ − d_k) + t T_{k+1}(δ − d_{k+1})
-//! A(δ; ξ) = (1 − t) A_k(δ − d_k) + t A_{k+1}(δ − d_{k+1})
+//! d(ξ)    = (1 − t) d_k + t d_{k+1}
+//! P(δ; ξ) = (1 − t) T_k(δ − d(ξ)) + t T_{k+1}(δ − d(ξ))
+//! A(δ; ξ) = (1 − t) A_k(δ − d(ξ)) + t A_{k+1}(δ − d(ξ))
 //! field   = each node's unit field weighted by its share of P,
 //!           origin moved by o_k − o(ξ), o(ξ) linear in ξ through the nodes
 //! ```
 //!
-//! (`t` clamped to `[0, 1]` beyond the end nodes, `o(ξ)` extrapolated: the
+//! (the first contact `d(ξ)` moves between the nodes' own; `t` clamped to
+//! `[0, 1]` beyond the end nodes, `o(ξ)` extrapolated: the
 //! model's offset `−ξ R/(R + Rx)` is linear in `ξ`, so the field lands on
 //! the summit's own frame at every step.)
 //!
@@ -105,13 +107,17 @@ fn blend(nodes: &[PathNode], xi: f64) -> [Part; 2] {
         a.offset[1] + t * (b.offset[1] - a.offset[1]),
     ];
     let w = t.clamp(0.0, 1.0);
+    // The first contact moves with ξ between the nodes' own: both tables
+    // are read from the blended one, so that the two share the load as
+    // their weights say from the first contact on.
+    let delay = (1.0 - w) * a.delay + w * b.delay;
     let part = |p: &PathNode, weight: f64| Part {
         table: Arc::clone(&p.law.table),
         origin: [
             p.law.origin[0] + p.offset[0] - offset[0],
             p.law.origin[1] + p.offset[1] - offset[1],
         ],
-        delay: p.delay,
+        delay,
         weight,
     };
     [part(a, 1.0 - w), part(b, w)]
