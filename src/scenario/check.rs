@@ -476,7 +476,7 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
     {
         return Err(bad(
             "[model] calibrate_under",
-            &format!("{:?}", under.name()),
+            format!("{:?}", under.name()),
             "\"flat\" unless [model] fidelity is \"calibrated\" or \"calibrated_fields\" \
              in a [rolling] run on a [texture]",
         ));

@@ -77,13 +77,25 @@ fn each_step_solves_the_laws_placed_at_its_offsets() -> TestResult {
             ..SolverOptions::default()
         };
         let s = solve(&problem, Control::Load(20.0), &options)?;
-        assert!((step.approach - s.approach).abs() <= 1e-9 * s.approach, "{step:?}");
+        assert!(
+            (step.approach - s.approach).abs() <= 1e-9 * s.approach,
+            "{step:?}"
+        );
         for (&id, &f) in step.contact_ids.iter().zip(&step.contact_forces) {
             let a = ids.iter().position(|&i| i == id).expect("selected");
-            assert!((f - s.forces[a]).abs() <= 1e-9 * 20.0, "{id}: {f} {}", s.forces[a]);
+            assert!(
+                (f - s.forces[a]).abs() <= 1e-9 * 20.0,
+                "{id}: {f} {}",
+                s.forces[a]
+            );
         }
         // The larger caps ahead carry the load shallower than the plain road.
-        assert!(step.approach < other.approach, "{} {}", step.approach, other.approach);
+        assert!(
+            step.approach < other.approach,
+            "{} {}",
+            step.approach,
+            other.approach
+        );
         // The placed law a recount sees is the step's.
         let ahead = ids
             .iter()
@@ -91,7 +103,10 @@ fn each_step_solves_the_laws_placed_at_its_offsets() -> TestResult {
             .find(|&i| plain.positions()[i][0] > xc)
             .expect("a cap ahead");
         let law = placed.law_at(ahead, xc);
-        assert_eq!(law.force(1e-5), HertzLaw::new(4.0 * R, material)?.force(1e-5));
+        assert_eq!(
+            law.force(1e-5),
+            HertzLaw::new(4.0 * R, material)?.force(1e-5)
+        );
     }
     Ok(())
 }
