@@ -8,17 +8,15 @@ mod common;
 
 use tyreroad::bem_rolling::{BemRollingOptions, BemRollingResult, roll_bem, texture_field};
 use tyreroad::contact_law::Material;
-use tyreroad::fidelity::rolling::calibrate_rolling_road_under;
+use tyreroad::fidelity::CalibratedLaw;
 use tyreroad::fidelity::rolling_fields::FieldRolling;
 use tyreroad::fidelity::under_tread::CalibrateUnder;
-use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator};
 use tyreroad::rolling::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingResult, RunOptions, Sensor, Tread,
     roll, roll_coupled,
 };
 use tyreroad::shared::Par;
 use tyreroad::texture::HeightMap;
-use tyreroad::texture_road::{TextureRoadOptions, texture_road};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -32,19 +30,7 @@ fn calibrated(
     config: &RollingConfig,
     under: CalibrateUnder,
 ) -> Road<CalibratedLaw> {
-    let m = material();
-    let troad = texture_road(map, m, &TextureRoadOptions::new(0.2e-3, 2e-6)).unwrap();
-    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let radii = troad.summit_radii();
-    let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).unwrap())
-        .with_summit_radii(radii.clone())
-        .unwrap();
-    let calibrator = Calibrator::new(m, CalibrationOptions::default()).with_fields();
-    let cal =
-        calibrate_rolling_road_under(&troad, &wilke, map, config, &calibrator, Par::Seq, under)
-            .unwrap();
-    let radii = cal.kept.iter().map(|&i| radii[i]).collect();
-    Road::new(cal.set).with_summit_radii(radii).unwrap()
+    common::calibrated_road(map, material(), config, under).0
 }
 
 /// Largest per-step `|model − reference|` over `scale`.

@@ -198,6 +198,15 @@ pub fn asperity_split(
     if fidelity == Fidelity::Calibrated {
         let calibrator = Calibrator::new(material, CalibrationOptions::default());
         let under = scenario.model.calibrate_under()?;
+        // The split re-solves single steps; laws placed along the path
+        // have no single step problem to hand out.
+        if under == crate::fidelity::under_tread::CalibrateUnder::TreadSlope {
+            return Err(invalid(
+                "asperity split: [model] calibrate_under \"tread_slope\" is not supported \
+                 (\"flat\" or \"tread\")"
+                    .into(),
+            ));
+        }
         let cal =
             calibrate_rolling_road_under(&troad, &wilke, &map, &config, &calibrator, par, under)
                 .map_err(|e| invalid(format!("calibration: {e}")))?;

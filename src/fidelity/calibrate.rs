@@ -43,8 +43,10 @@ use tyreroad_core::pchip::{PchipRule, pchip_slopes};
 use super::FidelityError;
 use super::field::{BinnedField, UnitField};
 
+mod along;
 mod cache;
 mod window;
+pub use along::PathNode;
 use cache::{CACHE_VERSION, Fnv};
 use window::KnotSolver;
 
@@ -366,6 +368,8 @@ fn hermite(xs: &[f64], ys: &[f64], ds: &[f64], x: f64) -> (f64, f64) {
 pub struct CalibratedLaw {
     table: Arc<CalibratedTable>,
     origin: [f64; 2],
+    /// Tables along the path, or the blend placed at one step (`along`).
+    along: Option<along::Along>,
 }
 
 impl CalibratedLaw {
@@ -374,22 +378,31 @@ impl CalibratedLaw {
         Self {
             table,
             origin: [0.0; 2],
+            along: None,
         }
     }
 
     /// The law over `table` calibrated on a patch whose cell `(0, 0)` lies
     /// at `origin` (m) from the summit ([`CapPatch::origin`]).
     pub fn with_origin(table: Arc<CalibratedTable>, origin: [f64; 2]) -> Self {
-        Self { table, origin }
+        Self {
+            table,
+            origin,
+            along: None,
+        }
     }
 
     /// The unit pressure field at `depth`, points relative to the summit
     /// ([`CalibratedTable::unit_field`]); `None` without fields.
     pub fn unit_field(&self, depth: f64) -> Option<UnitField> {
+        if let Some(field) = self.with_parts(|p| along::unit_field(p, depth)) {
+            return field;
+        }
         self.table.unit_field(depth, self.origin)
     }
 
-    /// Its table.
+    /// Its table (along the path: the node nearest the footprint's
+    /// centre, or the heavier of a placed blend's two).
     pub fn table(&self) -> &CalibratedTable {
         &self.table
     }
@@ -397,6 +410,9 @@ impl CalibratedLaw {
     /// The depth (m) at which the law carries `force` (bisection on the
     /// monotone interpolant), 0 for a force ≤ 0.
     pub fn depth_for(&self, force: f64) -> f64 {
+        if let Some(depth) = self.with_parts(|p| along::depth_for(p, force)) {
+            return depth;
+        }
         if !(force > 0.0) {
             return 0.0;
         }
@@ -422,6 +438,9 @@ impl CalibratedLaw {
 
 impl ContactLaw for CalibratedLaw {
     fn evaluate(&self, depth: f64) -> LawPoint {
+        if let Some(point) = self.with_parts(|p| along::evaluate(p, depth)) {
+            return point;
+        }
         if !(depth > 0.0) {
             return LawPoint::default();
         }
@@ -433,6 +452,9 @@ impl ContactLaw for CalibratedLaw {
     }
 
     fn local_contact(&self, force: f64, depth: f64) -> LocalContact {
+        if let Some(contact) = self.with_parts(|p| along::local_contact(p, force, depth)) {
+            return contact;
+        }
         if !(force > 0.0 && depth > 0.0) {
             return LocalContact::NONE;
         }

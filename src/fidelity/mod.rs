@@ -51,7 +51,7 @@ use std::str::FromStr;
 
 pub use calibrate::{
     CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, CalibrationStats, Calibrator,
-    CapPatch, HEIGHT_QUANTUM, WarmStart, calibrate, calibrate_with_fields,
+    CapPatch, HEIGHT_QUANTUM, PathNode, WarmStart, calibrate, calibrate_with_fields,
 };
 pub use texture::{calibrated_set, cap_patch};
 

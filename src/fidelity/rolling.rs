@@ -27,8 +27,8 @@ use std::time::{Duration, Instant};
 
 use super::compare::APPROACH_MARGIN;
 use super::texture::calibrated_laws;
-use super::under_tread::{CalibrateUnder, CapShape};
-use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError};
+use super::under_tread::{CalibrateUnder, CapShape, slope_nodes};
+use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError, PathNode};
 use crate::multipoint::AsperitySet;
 use crate::rolling::{self, RollingConfig, StepStatus};
 use crate::shared::{Material, Par, run_at};
@@ -150,13 +150,15 @@ pub fn contacts_past_tables(
     road: &rolling::Road<CalibratedLaw>,
     result: &rolling::RollingResult,
 ) -> PastTables {
-    let laws = road.laws();
     let mut past = PastTables::default();
     for step in &result.steps {
         let mut any = false;
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let Some(law) = laws.get(id) else { continue };
-            let last = law.table().knots().last().map_or(0.0, |(_, f, _)| f);
+            let Some(local) = road.local_id(id) else {
+                continue;
+            };
+            // A law placed along the path has the step's tables.
+            let last = road.law_at(local, step.position).tabulated_force();
             if last > 0.0 && force > last * (1.0 + 1e-9) {
                 any = true;
                 past.contacts += 1;
@@ -261,10 +263,25 @@ pub fn calibrate_rolling_road_under(
         ));
     }
     let lifts = profile_lifts(wilke, config, &kept);
-    let shape = cap_shape(wilke, config, &kept, under);
-    let laws = run_at(par, || {
-        calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
-    })?;
+    let laws = match under {
+        CalibrateUnder::TreadSlope => {
+            let nodes = slope_nodes(&config.tread, config.margin);
+            let mut by_node = Vec::with_capacity(nodes.len());
+            for &xi in &nodes {
+                let shape = cap_shape(wilke, config, &kept, under, xi);
+                by_node.push(run_at(par, || {
+                    calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
+                })?);
+            }
+            laws_along_path(wilke, config, &kept, &nodes, by_node)?
+        }
+        _ => {
+            let shape = cap_shape(wilke, config, &kept, under, 0.0);
+            run_at(par, || {
+                calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
+            })?
+        }
+    };
     let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
     let heights = kept
         .iter()
@@ -282,18 +299,77 @@ pub fn calibrate_rolling_road_under(
     })
 }
 
+/// Each kept asperity's law along the path from its laws at `nodes`
+/// (`by_node[k][n]`: node `k`, asperity `kept[n]`, with its lift): the
+/// asperity is lifted by its largest lift and each node's table delayed by
+/// what it lifts less ([`super::PathNode`]).
+fn laws_along_path(
+    wilke: &rolling::Road<TextureLaw>,
+    config: &RollingConfig,
+    kept: &[usize],
+    nodes: &[f64],
+    by_node: Vec<Vec<(CalibratedLaw, f64)>>,
+) -> Result<Vec<(CalibratedLaw, f64)>, FidelityError> {
+    let mut columns: Vec<_> = by_node.into_iter().map(Vec::into_iter).collect();
+    kept.iter()
+        .map(|&i| {
+            let row: Vec<(CalibratedLaw, f64)> =
+                columns.iter_mut().filter_map(Iterator::next).collect();
+            let lift = row.iter().map(|r| r.1).fold(0.0, f64::max);
+            let eta = wilke.positions()[i][1] - config.lateral;
+            let radius = wilke.summit_radius(i);
+            let path = nodes
+                .iter()
+                .zip(row)
+                .map(|(&xi, (law, l))| PathNode {
+                    xi,
+                    law,
+                    offset: config
+                        .tread
+                        .contact_gap(xi, eta, radius)
+                        .map_or([0.0, 0.0], |(_, o)| o),
+                    delay: lift - l,
+                })
+                .collect();
+            Ok((CalibratedLaw::along_path(path)?, lift))
+        })
+        .collect()
+}
+
+/// The rolling road on a calibrated `set` with its summit `radii`: when
+/// its laws are calibrated along the path
+/// ([`CalibrateUnder::TreadSlope`]), each step places them at its own
+/// offsets ([`CalibratedLaw::at_offset`], [`crate::rolling::Placement`]).
+///
+/// # Errors
+/// Those of [`rolling::Road::with_summit_radii`].
+pub fn calibrated_rolling_road(
+    set: AsperitySet<CalibratedLaw>,
+    radii: Vec<f64>,
+) -> Result<rolling::Road<CalibratedLaw>, rolling::RollingError> {
+    let along = set.laws().iter().any(CalibratedLaw::is_along_path);
+    let road = rolling::Road::new(set).with_summit_radii(radii)?;
+    if along {
+        road.with_placement(CalibratedLaw::at_offset)
+    } else {
+        Ok(road)
+    }
+}
+
 /// Where each of `wilke`'s asperities lies under `config`'s tread (by the
-/// road's index), for `under`. Lifts are bounded by the highest kept
-/// summit, the calibrated road's reference for the approach.
+/// road's index), for `under`, at offset `xi` (m) from the footprint's
+/// centre along the path. Lifts are bounded by the highest kept summit,
+/// the calibrated road's reference for the approach.
 fn cap_shape(
     wilke: &rolling::Road<TextureLaw>,
     config: &RollingConfig,
     kept: &[usize],
     under: CalibrateUnder,
+    xi: f64,
 ) -> CapShape {
     match under {
         CalibrateUnder::Flat => CapShape::Flat,
-        CalibrateUnder::Tread => {
+        CalibrateUnder::Tread | CalibrateUnder::TreadSlope => {
             let top = kept
                 .iter()
                 .map(|&i| wilke.heights()[i])
@@ -301,6 +377,7 @@ fn cap_shape(
             let n = wilke.len();
             CapShape::Tread {
                 tread: config.tread,
+                xi,
                 eta: (0..n)
                     .map(|i| wilke.positions()[i][1] - config.lateral)
                     .collect(),

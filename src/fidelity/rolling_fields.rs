@@ -295,16 +295,21 @@ pub fn sensor_forces(
                 )
             })?);
         }
-        let depths: Vec<f64> = locals
+        // Laws placed along the path are the step's.
+        let laws: Vec<_> = locals
+            .iter()
+            .map(|&local| road.law_at(local, step.position))
+            .collect();
+        let depths: Vec<f64> = laws
             .iter()
             .zip(&step.contact_forces)
-            .map(|(&local, &force)| road.laws()[local].depth_for(force))
+            .map(|(law, &force)| law.depth_for(force))
             .collect();
-        let contacts: Vec<_> = locals
+        let contacts: Vec<_> = laws
             .iter()
             .zip(&step.contact_forces)
             .zip(&depths)
-            .map(|((&local, &force), &depth)| road.laws()[local].local_contact(force, depth))
+            .map(|((law, &force), &depth)| law.local_contact(force, depth))
             .collect();
         let radii: Vec<f64> = contacts.iter().map(|c| c.radius.max(0.0)).collect();
         let centres = contact_points(
@@ -316,8 +321,8 @@ pub fn sensor_forces(
             &step.contact_forces,
             &radii,
         );
-        for (a, (&local, &force)) in locals.iter().zip(&step.contact_forces).enumerate() {
-            let law = &road.laws()[local];
+        for (a, &force) in step.contact_forces.iter().enumerate() {
+            let law = &laws[a];
             match accounting {
                 SensorAccounting::Fields => {
                     let spread = field_spread(law, depths[a]).ok_or_else(|| {

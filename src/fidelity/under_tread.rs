@@ -53,6 +53,10 @@ pub enum CalibrateUnder {
     Flat,
     /// The tread's local shape at the cap's lateral position (module docs).
     Tread,
+    /// The tread's local shape at the cap's lateral position and at a few
+    /// longitudinal offsets `ξ`, blended at each step's `ξ`
+    /// ([`crate::fidelity::PathNode`], [`slope_nodes`]).
+    TreadSlope,
 }
 
 impl CalibrateUnder {
@@ -61,6 +65,7 @@ impl CalibrateUnder {
         match self {
             Self::Flat => "flat",
             Self::Tread => "tread",
+            Self::TreadSlope => "tread_slope",
         }
     }
 }
@@ -78,13 +83,40 @@ impl FromStr for CalibrateUnder {
         match s {
             "flat" => Ok(Self::Flat),
             "tread" => Ok(Self::Tread),
+            "tread_slope" => Ok(Self::TreadSlope),
             _ => Err(FidelityError::invalid(
                 "calibrate_under",
                 format!("{s:?}"),
-                "\"flat\" or \"tread\"",
+                "\"flat\", \"tread\" or \"tread_slope\"",
             )),
         }
     }
+}
+
+/// Offsets along the path at which [`CalibrateUnder::TreadSlope`]
+/// calibrates each cap.
+pub const SLOPE_NODES: usize = 5;
+
+/// The offsets `ξ` (m) of [`CalibrateUnder::TreadSlope`]'s nodes:
+/// [`SLOPE_NODES`] evenly spaced over `[−a, a]`, `a = L/2 + m` the
+/// half-length of the window that selects an asperity (footprint and
+/// `margin`): every offset at which a step can hand a cap its law. (The
+/// approach alone would bound them closer, `√(2 Rx δ0)`, for a cap that
+/// touches at its summit; a long cap whose summit lies at one end touches
+/// with its other end further out.) One node at `ξ = 0` under a block (no
+/// slope to follow).
+pub fn slope_nodes(tread: &Tread, margin: f64) -> Vec<f64> {
+    let Tread::Tyre { length, .. } = *tread else {
+        return vec![0.0];
+    };
+    let a = 0.5 * length + tread.effective_margin(margin).max(0.0);
+    if !(a > 0.0 && a.is_finite()) {
+        return vec![0.0];
+    }
+    let h = (SLOPE_NODES - 1) as f64;
+    (0..SLOPE_NODES)
+        .map(|k| a * (2.0 * k as f64 / h - 1.0))
+        .collect()
 }
 
 /// Where each cap of a road lies under the tread, by the road's index:
@@ -93,10 +125,12 @@ impl FromStr for CalibrateUnder {
 pub(crate) enum CapShape {
     /// Every cap under a flat punch.
     Flat,
-    /// Each cap under `tread` at lateral offset `eta[i]` (m) from the path,
-    /// with summit radius `radius[i]` (m; the model's, for its gap).
+    /// Each cap under `tread` at lateral offset `eta[i]` (m) from the path
+    /// and longitudinal offset `xi` (m) from the footprint's centre, with
+    /// summit radius `radius[i]` (m; the model's, for its gap).
     Tread {
         tread: Tread,
+        xi: f64,
         eta: Vec<f64>,
         radius: Vec<f64>,
         /// The road's highest summit less each asperity's height (m): how
@@ -129,6 +163,7 @@ impl CapShape {
     ) -> Result<TreadPatch, FidelityError> {
         let Self::Tread {
             tread,
+            xi,
             eta,
             radius,
             headroom,
@@ -148,7 +183,7 @@ impl CapShape {
                 format!("below the {} caps placed under the tread", eta.len()),
             ));
         };
-        let Some(rise) = TreadRise::new(tread, eta, radius) else {
+        let Some(rise) = TreadRise::new(tread, *xi, eta, radius) else {
             return Ok(TreadPatch {
                 patch: cap_patch(map, a, depth)?,
                 lift: 0.0,
@@ -168,36 +203,40 @@ impl CapShape {
 struct TreadRise {
     radius_x: f64,
     radius_y: f64,
+    xi: f64,
     eta: f64,
     /// `L_model`: how far below the summit's profile the model's gap lies.
     lateral_lift: f64,
-    /// The model's lateral contact-point offset (m).
+    /// The model's contact-point offset (m).
     offset: [f64; 2],
 }
 
 impl TreadRise {
+    /// The rise at longitudinal offset `xi` and lateral offset `eta`;
     /// `None` under a block (flat: nothing to reshape).
-    fn new(tread: &Tread, eta: f64, radius: f64) -> Option<Self> {
+    fn new(tread: &Tread, xi: f64, eta: f64, radius: f64) -> Option<Self> {
         let Tread::Tyre {
             radius_x, radius_y, ..
         } = *tread
         else {
             return None;
         };
-        let (gap, offset) = tread.contact_gap(0.0, eta, radius)?;
-        let summit = tread.profile(0.0, eta)?;
+        let (gap, offset) = tread.contact_gap(xi, eta, radius)?;
+        let summit = tread.profile(xi, eta)?;
         Some(Self {
             radius_x,
             radius_y,
+            xi,
             eta,
             lateral_lift: summit - gap,
             offset,
         })
     }
 
-    /// `s(dx, η + dy) − s(0, η)`.
+    /// `s(ξ + dx, η + dy) − s(ξ, η)`.
     fn rise(&self, dx: f64, dy: f64) -> f64 {
-        dx * dx / (2.0 * self.radius_x) + dy * (2.0 * self.eta + dy) / (2.0 * self.radius_y)
+        dx * (2.0 * self.xi + dx) / (2.0 * self.radius_x)
+            + dy * (2.0 * self.eta + dy) / (2.0 * self.radius_y)
     }
 
     /// The largest fall of the tread below the summit's level over the
@@ -210,13 +249,24 @@ impl TreadRise {
                 p.origin[1] + (p.ny - 1) as f64 * p.dy,
             ],
         ];
-        let dys = corners.map(|c| grow * c[1]);
-        // The rise is a parabola in dy whose lowest point is at dy = −η.
-        let lowest = (-self.eta).clamp(dys[0].min(dys[1]), dys[0].max(dys[1]));
-        [dys[0], dys[1], lowest]
-            .into_iter()
-            .map(|dy| -self.rise(0.0, dy))
-            .fold(0.0, f64::max)
+        // The rise is a sum of parabolas in dx and dy whose lowest points
+        // are at dx = −ξ and dy = −η: each part's lowest value over the
+        // grown patch, found apart.
+        let lowest = |axis: usize, vertex: f64| {
+            let ds = corners.map(|c| grow * c[axis]);
+            let v = (-vertex).clamp(ds[0].min(ds[1]), ds[0].max(ds[1]));
+            [ds[0], ds[1], v]
+                .into_iter()
+                .map(|d| {
+                    if axis == 0 {
+                        self.rise(d, 0.0)
+                    } else {
+                        self.rise(0.0, d)
+                    }
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        (-(lowest(0, self.xi) + lowest(1, self.eta))).max(0.0)
     }
 
     /// `flat` (cut at `reach` below its summit) less the tread's rise and
@@ -286,11 +336,25 @@ mod tests {
             "tread".parse::<CalibrateUnder>().unwrap(),
             CalibrateUnder::Tread
         );
+        assert_eq!(
+            "tread_slope".parse::<CalibrateUnder>().unwrap(),
+            CalibrateUnder::TreadSlope
+        );
         let e = "tilted".parse::<CalibrateUnder>().unwrap_err().to_string();
         assert!(
-            e.contains("calibrate_under") && e.contains("\"tread\""),
+            e.contains("calibrate_under") && e.contains("\"tread_slope\""),
             "{e}"
         );
+        // Nodes over the selection window; one under a block.
+        assert_eq!(
+            slope_nodes(&tyre(), 0.02),
+            [-0.07, -0.035, 0.0, 0.035, 0.07]
+        );
+        let block = Tread::Block {
+            length: 0.1,
+            width: 0.1,
+        };
+        assert_eq!(slope_nodes(&block, 0.02), [0.0]);
         assert_eq!(CalibrateUnder::default(), CalibrateUnder::Flat);
     }
 
@@ -302,7 +366,7 @@ mod tests {
     fn a_paraboloid_under_a_sloping_tyre_first_touches_at_the_models_contact_point() {
         let r = 5e-3;
         let eta = 0.05;
-        let rise = TreadRise::new(&tyre(), eta, r).unwrap();
+        let rise = TreadRise::new(&tyre(), 0.0, eta, r).unwrap();
         let flat = paraboloid(r);
         let out = rise.reshape(flat.clone(), 1e-3, 1.0);
         // The continuous maximum lies between cells: within the grid's
@@ -336,7 +400,7 @@ mod tests {
     fn a_cap_reaching_above_the_models_gap_is_lifted_then_clipped() {
         let eta = 0.05;
         // Model radius 2 mm, true transverse radius 8 mm.
-        let rise = TreadRise::new(&tyre(), eta, 2e-3).unwrap();
+        let rise = TreadRise::new(&tyre(), 0.0, eta, 2e-3).unwrap();
         let flat = CapPatch::from_fn(81, 1e-4, |x, y| -x * x / 4e-3 - y * y / 16e-3).unwrap();
         let free = rise.reshape(flat.clone(), 1e-3, 1.0);
         // σ²/2 (Rt Ry/(Rt + Ry) − R Ry/(R + Ry)), σ = η/Ry, Rt = 8 mm, R = 2 mm.

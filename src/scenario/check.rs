@@ -469,15 +469,26 @@ fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
     }
     // A tread to calibrate under exists only in a rolling run on a
     // texture's calibrated laws.
-    if scenario.model.calibrate_under()? == CalibrateUnder::Tread
+    let under = scenario.model.calibrate_under()?;
+    if under != CalibrateUnder::Flat
         && !(rolling_texture
             && matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields))
     {
         return Err(bad(
             "[model] calibrate_under",
-            "\"tread\"",
+            format!("{:?}", under.name()),
             "\"flat\" unless [model] fidelity is \"calibrated\" or \"calibrated_fields\" \
              in a [rolling] run on a [texture]",
+        ));
+    }
+    // The hereditary step solves its own laws per step and does not place
+    // them along the path (crate::fidelity::rolling::calibrated_rolling_road).
+    if under == CalibrateUnder::TreadSlope && scenario.material.viscoelastic.is_some() {
+        return Err(bad(
+            "[model] calibrate_under",
+            "\"tread_slope\"",
+            "\"flat\" or \"tread\" on a viscoelastic tread (laws placed along the path \
+             are elastic only)",
         ));
     }
     Ok(())
@@ -490,6 +501,7 @@ mod tests {
 
     const PAPER: &str = include_str!("../../fixtures/paper_25_spheres.toml");
     const ROLLING: &str = include_str!("../../fixtures/rolling_tyre_dense_asphalt.toml");
+    const VISCO: &str = include_str!("../../fixtures/rolling_tyre_dense_asphalt_visco.toml");
 
     /// `base` with `from` replaced by `to` must be refused with a message
     /// naming `key`.
@@ -576,6 +588,28 @@ mod tests {
             PAPER,
             "[material]",
             "[model]\ncalibrate_under = \"tread\"\n\n[material]",
+            "[model] calibrate_under",
+        );
+        // Along the path: the same places, elastic treads only.
+        let slope = Scenario::parse(
+            &rolling("fidelity = \"calibrated_fields\"\ncalibrate_under = \"tread_slope\""),
+            "case",
+        )
+        .unwrap();
+        assert_eq!(
+            slope.model.calibrate_under().unwrap(),
+            crate::fidelity::under_tread::CalibrateUnder::TreadSlope
+        );
+        refused(
+            ROLLING,
+            "[rolling]",
+            &model("calibrate_under = \"tread_slope\""),
+            "[model] calibrate_under",
+        );
+        refused(
+            VISCO,
+            "[rolling]",
+            &model("fidelity = \"calibrated\"\ncalibrate_under = \"tread_slope\""),
             "[model] calibrate_under",
         );
     }

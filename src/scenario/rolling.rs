@@ -333,7 +333,7 @@ fn calibrated_road(
         fields,
         scenario.model.calibrate_under()?,
     )?;
-    let road = rolling::Road::new(set).with_summit_radii(radii)?;
+    let road = crate::fidelity::rolling::calibrated_rolling_road(set, radii)?;
     Ok((road, RoadSummary::Texture(summary)))
 }
 

@@ -519,7 +519,9 @@ impl Scenario {
             cache,
             self.model.calibrate_under()?,
         )?;
-        Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
+        Ok(crate::fidelity::rolling::calibrated_rolling_road(
+            set, radii,
+        )?)
     }
 
     /// Asperity labels, in file order.

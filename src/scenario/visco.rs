@@ -557,6 +557,16 @@ impl Scenario {
                     .par
                     .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
                 let fields = fidelity == Fidelity::CalibratedFields;
+                let under = self.model.calibrate_under()?;
+                // The hereditary step solves each road law as it is: laws
+                // along the path would stay at the footprint's centre.
+                if under == crate::fidelity::under_tread::CalibrateUnder::TreadSlope {
+                    return Err(ScenarioError::Invalid(
+                        "[model] calibrate_under \"tread_slope\" is elastic only: use \"flat\" \
+                         or \"tread\" on a viscoelastic tread"
+                            .into(),
+                    ));
+                }
                 let (set, summary, radii) = calibrated_texture_road_set_with(
                     texture,
                     &options.base_dir,
@@ -565,7 +575,7 @@ impl Scenario {
                     par,
                     None,
                     fields,
-                    self.model.calibrate_under()?,
+                    under,
                 )?;
                 let road = rolling::Road::new(set).with_summit_radii(radii)?;
                 let sweep = Sweep {

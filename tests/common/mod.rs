@@ -1,7 +1,14 @@
 //! Test maps shared by the integration tests (a test file takes them with
 //! `mod common;`).
 
+use tyreroad::contact_law::Material;
+use tyreroad::fidelity::rolling::{calibrate_rolling_road_under, calibrated_rolling_road};
+use tyreroad::fidelity::under_tread::CalibrateUnder;
+use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator};
+use tyreroad::rolling::{Road, RollingConfig};
+use tyreroad::shared::Par;
 use tyreroad::texture::HeightMap;
+use tyreroad::texture_road::{TextureRoadOptions, texture_road};
 
 /// Three ridges along y whose summits sit at alternate ends: cross-section
 /// radius 4 mm, ends rounded to 2 mm, each tilted by `tilt` (±, alternating)
@@ -76,4 +83,35 @@ pub fn rolling_ridges() -> HeightMap {
         floor: -1.2e-3,
     }
     .map()
+}
+
+/// The calibrated rolling road of `map` (with fields, on `m`), each cap
+/// under `under`, as a scenario builds it (y centred on the map's middle,
+/// summit radii, laws placed along the path when calibrated so), and the
+/// largest approach its tables cover (m).
+#[allow(
+    dead_code,
+    reason = "each test file that includes this module uses part of it"
+)]
+pub fn calibrated_road(
+    map: &HeightMap,
+    m: Material,
+    config: &RollingConfig,
+    under: CalibrateUnder,
+) -> (Road<CalibratedLaw>, f64) {
+    let troad = texture_road(map, m, &TextureRoadOptions::new(0.2e-3, 2e-6)).expect("texture road");
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let radii = troad.summit_radii();
+    let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("frame"))
+        .with_summit_radii(radii.clone())
+        .expect("radii");
+    let calibrator = Calibrator::new(m, CalibrationOptions::default()).with_fields();
+    let cal =
+        calibrate_rolling_road_under(&troad, &wilke, map, config, &calibrator, Par::Seq, under)
+            .expect("calibration");
+    let radii = cal.kept.iter().map(|&i| radii[i]).collect();
+    (
+        calibrated_rolling_road(cal.set, radii).expect("road"),
+        cal.max_approach,
+    )
 }

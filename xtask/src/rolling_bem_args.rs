@@ -57,8 +57,8 @@ pub struct RollingBemArgs {
     /// `calibrated_fields`), instead of the scenario's `[model] fidelity`.
     #[arg(long, conflicts_with = "viscoelastic")]
     pub fidelity: Option<String>,
-    /// What the calibrated rungs' caps are calibrated under (`flat` or
-    /// `tread`), instead of the scenario's `[model] calibrate_under`.
+    /// What the calibrated rungs' caps are calibrated under (`flat`,
+    /// `tread` or `tread_slope`), instead of the scenario's `[model] calibrate_under`.
     #[arg(long, conflicts_with = "viscoelastic")]
     pub calibrate_under: Option<String>,
     /// Compare against the BEM signals an earlier `rolling-bem` run of the

@@ -64,6 +64,16 @@ impl Fnv {
 /// Depths (m) at which each law is probed for the input hash.
 const PROBES: [f64; 5] = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3];
 
+/// `hash` keyed further by `values` (a road's placed laws' probes).
+pub(crate) fn mix(hash: u64, values: impl IntoIterator<Item = f64>) -> u64 {
+    let mut h = Fnv(hash);
+    h.u(0x91u64);
+    for v in values {
+        h.f(v);
+    }
+    h.0
+}
+
 /// `hash` (an [`input_hash`]) keyed further by a step coupling's key
 /// ([`crate::StepCoupling::key`]).
 pub(crate) fn with_coupling(hash: u64, key: u64) -> u64 {

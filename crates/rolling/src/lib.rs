@@ -119,6 +119,7 @@
 mod checkpoint;
 mod config;
 mod coupling;
+mod placement;
 mod record;
 mod road;
 mod run;
@@ -133,6 +134,7 @@ mod tread;
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
 pub use coupling::{CouplingState, FixedPointDamping, Spread, StepCoupling};
+pub use placement::Placement;
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,
 };

@@ -49,6 +49,9 @@ pub struct Road<L> {
     /// Summit curvature radius per id (m), if known: the tread gap is then
     /// measured at the contact point ([`crate::Tread::contact_gap`]).
     summit_radii: Option<Vec<f64>>,
+    /// How each law changes with the footprint's position over its cap
+    /// ([`crate::Placement`]); `None`: one law for the whole run.
+    placement: Option<crate::Placement<L>>,
 }
 
 impl<L> Road<L> {
@@ -70,6 +73,7 @@ impl<L> Road<L> {
             global_len,
             digest: OnceLock::new(),
             summit_radii: None,
+            placement: None,
         }
     }
 
@@ -182,6 +186,30 @@ impl<L> Road<L> {
         Ok(self)
     }
 
+    /// The same road with each step's laws placed by `place` at the
+    /// asperity's offset from the footprint's centre (docs/rolling.md,
+    /// "Laws placed along the path").
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] on a window (its digest is the whole
+    /// road's, given when it was cut without the placement).
+    pub fn with_placement(mut self, place: crate::Placement<L>) -> Result<Self, RollingError> {
+        if self.is_window() {
+            return Err(RollingError::InvalidInput(
+                "a law placement on a road window: give it to the whole road".into(),
+            ));
+        }
+        self.placement = Some(place);
+        // The placed laws are the run's: part of the checkpoint key.
+        self.digest = OnceLock::new();
+        Ok(self)
+    }
+
+    /// The road's [`crate::Placement`], if its laws move with the footprint.
+    pub fn placement(&self) -> Option<crate::Placement<L>> {
+        self.placement
+    }
+
     /// The summit curvature radius of asperity `id` (m), infinite if the
     /// road has none.
     pub fn summit_radius(&self, id: usize) -> f64 {
@@ -287,7 +315,16 @@ impl<L: ContactLaw> Road<L> {
             if let Some(radii) = &self.summit_radii {
                 d.summit_radii(radii);
             }
-            d.finish()
+            let whole = d.finish();
+            match self.placement {
+                Some(place) => crate::checkpoint::mix(
+                    whole,
+                    self.laws()
+                        .iter()
+                        .flat_map(|law| crate::placement::probe_placed(place, law)),
+                ),
+                None => whole,
+            }
         })
     }
 }

@@ -9,6 +9,7 @@ use tyreroad_multipoint::{
 };
 
 use crate::coupling::{CouplingState, FixedPointDamping, KeptCorrection, StepCoupling};
+use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
     deformation_slopes,
@@ -26,6 +27,7 @@ pub fn step_problem<'r, L: ContactLaw>(
     config: &RollingConfig,
     position: f64,
 ) -> Result<Option<StepProblem<'r, L>>, RollingError> {
+    unplaced(road)?;
     let mut ids = Vec::new();
     select(road, config, position, &mut ids);
     if ids.is_empty() {
@@ -58,7 +60,8 @@ pub(crate) fn build<'r, L: ContactLaw>(
     xc: f64,
     ids: &[usize],
 ) -> Result<Problem<&'r L>, RollingError> {
-    build_at(road, material, config, xc, ids, false, None)
+    let laws = step_laws(road, ids, None);
+    build_at(road, material, config, xc, ids, &laws, false, None)
 }
 
 /// [`build`], with the asperities placed at their contact points instead
@@ -66,17 +69,20 @@ pub(crate) fn build<'r, L: ContactLaw>(
 /// correction places each asperity's pressure where its contact is, and
 /// the point kernel it corrects must start from the same place), and the
 /// tread tilted further at each asperity by `slopes` (the deformation's,
-/// [`crate::deformation_slopes`]; `None`: the undeformed profile).
-pub(crate) fn build_at<'r, L: ContactLaw>(
-    road: &'r Road<L>,
+/// [`crate::deformation_slopes`]; `None`: the undeformed profile). `laws`
+/// are the step's, one per id ([`step_laws`]).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn build_at<'p, L: ContactLaw>(
+    road: &Road<L>,
     material: Material,
     config: &RollingConfig,
     xc: f64,
     ids: &[usize],
+    laws: &[&'p L],
     at_contact_points: bool,
     slopes: Option<&[[f64; 2]]>,
-) -> Result<Problem<&'r L>, RollingError> {
-    let (pos, z, laws, top) = (road.positions(), road.heights(), road.laws(), road.top());
+) -> Result<Problem<&'p L>, RollingError> {
+    let (pos, z, top) = (road.positions(), road.heights(), road.top());
     let yc = config.lateral;
     // The gap at each cap's contact point (the summit's when the road has
     // no summit radii): under a sloping tread it lies off the summit.
@@ -97,8 +103,7 @@ pub(crate) fn build_at<'r, L: ContactLaw>(
         });
         gaps.push(top - z[i] + touch.map_or(f64::INFINITY, |(s, _)| s));
     }
-    let laws = ids.iter().map(|&i| &laws[i]).collect();
-    Problem::new(positions, gaps, laws, material).map_err(|source| RollingError::Solve {
+    Problem::new(positions, gaps, laws.to_vec(), material).map_err(|source| RollingError::Solve {
         position: xc,
         source,
     })
@@ -133,6 +138,7 @@ pub fn settled_step<'r, L: ContactLaw + Sync>(
     xc: f64,
     control: Control,
 ) -> Result<Option<SettledStep<'r, L>>, RollingError> {
+    unplaced(road)?;
     let mut ids = Vec::new();
     select(road, config, xc, &mut ids);
     if ids.is_empty() {
@@ -140,7 +146,17 @@ pub fn settled_step<'r, L: ContactLaw + Sync>(
     }
     let mut slopes =
         (config.contact_slope == ContactSlope::Deformed).then(|| vec![[0.0, 0.0]; ids.len()]);
-    let mut problem = build_at(road, material, config, xc, &ids, false, slopes.as_deref())?;
+    let laws = step_laws(road, &ids, None);
+    let mut problem = build_at(
+        road,
+        material,
+        config,
+        xc,
+        &ids,
+        &laws,
+        false,
+        slopes.as_deref(),
+    )?;
     let options = SolverOptions {
         tolerance: config.tolerance,
         max_iterations: config.max_iterations,
@@ -149,7 +165,7 @@ pub fn settled_step<'r, L: ContactLaw + Sync>(
     };
     let solution = settle_slopes(
         (road, material, config, xc),
-        &ids,
+        (&ids, &laws),
         (&mut problem, &mut slopes),
         (control, &options),
         None,
@@ -345,12 +361,16 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     // from each asperity's last ones.
     let mut slopes: Option<Vec<[f64; 2]>> = (config.contact_slope == ContactSlope::Deformed)
         .then(|| ids.iter().map(|&i| scratch.slopes[i]).collect());
+    // The step's laws: placed at this footprint when the road says so.
+    let placed = placed_laws(road, &ids, xc);
+    let laws = step_laws(road, &ids, placed.as_deref());
     let mut problem = build_at(
         road,
         material,
         config,
         xc,
         &ids,
+        &laws,
         coupling.is_some(),
         slopes.as_deref(),
     )?;
@@ -419,7 +439,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     let solved = match coupling {
         None => settle_slopes(
             (road, material, config, xc),
-            &ids,
+            (&ids, &laws),
             (&mut problem, &mut slopes),
             (control, &options),
             initial.as_ref(),
@@ -427,7 +447,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         Some(coupling) => {
             let fixed = fixed_point(
                 (&mut problem, &mut slopes),
-                &ids,
+                (&ids, &laws),
                 (control, &options),
                 initial.as_ref(),
                 &warm_correction,
@@ -533,14 +553,14 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
 /// point still moving after the coupling's rounds, its residual the last
 /// change over the scale). The outer error is the run's.
 #[allow(clippy::too_many_arguments)]
-fn fixed_point<'r, L: ContactLaw + Sync>(
-    (problem, slopes): (&mut Problem<&'r L>, &mut Option<Vec<[f64; 2]>>),
-    ids: &[usize],
+fn fixed_point<'p, L: ContactLaw + Sync>(
+    (problem, slopes): (&mut Problem<&'p L>, &mut Option<Vec<[f64; 2]>>),
+    (ids, laws): (&[usize], &[&'p L]),
     (control, options): (Control, &SolverOptions),
     initial: Option<&Solution>,
     warm: &PairCorrection,
     coupling: &dyn StepCoupling<L>,
-    (road, material, config, xc): (&'r Road<L>, Material, &RollingConfig, f64),
+    (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
 ) -> Result<Result<(Solution, PairCorrection), SolveError>, RollingError> {
     let mut iterations = 0;
     let mut s = match solve_corrected(problem, control, options, initial, warm) {
@@ -577,7 +597,7 @@ fn fixed_point<'r, L: ContactLaw + Sync>(
             let radii = contact_radii(&s, problem);
             *current = deformed_slopes(road, material, config, ids, &s.forces, &radii)
                 .unwrap_or_else(|| current.clone());
-            *problem = build_at(road, material, config, xc, ids, true, Some(current))?;
+            *problem = build_at(road, material, config, xc, ids, laws, true, Some(current))?;
             offsets = offsets_of(problem);
             s = consistent_start(problem, material, &s, &used);
         }
@@ -673,10 +693,10 @@ fn consistent_start<L: ContactLaw>(
 /// of the deepest interpenetration. Under the profile (`slopes` `None`)
 /// one solve. A step still moving after [`SLOPE_ROUNDS`] is its failure,
 /// the last move over the depth its residual.
-fn settle_slopes<'r, L: ContactLaw + Sync>(
-    (road, material, config, xc): (&'r Road<L>, Material, &RollingConfig, f64),
-    ids: &[usize],
-    (problem, slopes): (&mut Problem<&'r L>, &mut Option<Vec<[f64; 2]>>),
+fn settle_slopes<'p, L: ContactLaw + Sync>(
+    (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
+    (ids, laws): (&[usize], &[&'p L]),
+    (problem, slopes): (&mut Problem<&'p L>, &mut Option<Vec<[f64; 2]>>),
     (control, options): (Control, &SolverOptions),
     initial: Option<&Solution>,
 ) -> Result<Result<Solution, SolveError>, RollingError> {
@@ -694,7 +714,7 @@ fn settle_slopes<'r, L: ContactLaw + Sync>(
         let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii) else {
             return Ok(Ok(s));
         };
-        let rebuilt = build_at(road, material, config, xc, ids, false, Some(&next))?;
+        let rebuilt = build_at(road, material, config, xc, ids, laws, false, Some(&next))?;
         let depth = s.depths.iter().fold(0.0f64, |m, &d| m.max(d));
         change = rebuilt
             .gaps()
