@@ -21,13 +21,13 @@ use std::path::Path;
 use crate::bem::{BemOptions, Solver};
 use crate::rolling::RollingConfig;
 use crate::scenario::Scenario;
-use crate::shared::{Field, Grid, Par};
+use crate::shared::{Field, Par};
 use crate::viscoelastic::{Prony, TreadMemory, ViscoError};
 
 use super::run_scenario::texture_field;
 use super::{
     BemRollingError, BemRollingOptions, BemRollingResult, Stretch, effective_surface, failed_step,
-    first_cell, locate, record_step, shift_pressure, solve_step, window_cells,
+    locate, record_step, shift_pressure, solve_step, window_layout,
 };
 
 fn visco(e: ViscoError) -> BemRollingError {
@@ -69,25 +69,9 @@ pub fn roll_visco_bem(
         )));
     }
     let dt = config.step / config.speed;
-    let (hx, hy) = config.tread.half_extents();
+    let hx = config.tread.half_extents().0;
     let m = config.tread.effective_margin(config.margin);
-    let nx = window_cells(hx + m, g.dx());
-    let j_first = first_cell(config.lateral - hy - m, g.origin()[1], g.dy());
-    let j_end = j_first + window_cells(hy + m, g.dy()) as i64;
-    let (j0, j1) = (j_first.max(0), j_end.min(g.ny() as i64));
-    if j1 <= j0 {
-        return Err(BemRollingError::OffMap {
-            step: 0,
-            position: config.start,
-            axis: "y",
-            first: j_first,
-            end: j_end,
-            available: g.ny(),
-        });
-    }
-    let (j0, ny) = (j0 as usize, (j1 - j0) as usize);
-    let window_grid = Grid::new(nx, ny, g.dx(), g.dy())
-        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
+    let (window_grid, (nx, j0, ny)) = window_layout(road, config)?;
     let mut memory = TreadMemory::new(material.clone(), nx, ny);
     // Δt is the same every step, so one E_eff and one solver serve the run.
     let effective = memory.history(dt).map_err(visco)?.effective_modulus;
