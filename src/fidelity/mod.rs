@@ -238,6 +238,16 @@ impl fmt::Display for Fidelity {
     }
 }
 
+/// `"a", "b" or "c"`: the names a scenario key accepts, for its error.
+pub fn one_of<const N: usize>(names: [&str; N]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    match quoted.split_last() {
+        None => String::new(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
 impl FromStr for Fidelity {
     type Err = FidelityError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {

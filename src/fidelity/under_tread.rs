@@ -60,6 +60,9 @@ pub enum CalibrateUnder {
 }
 
 impl CalibrateUnder {
+    /// Every choice, in the order the errors list them.
+    pub const ALL: [CalibrateUnder; 3] = [Self::Flat, Self::Tread, Self::TreadSlope];
+
     /// The scenario's name of this choice.
     pub fn name(self) -> &'static str {
         match self {
@@ -80,16 +83,16 @@ impl FromStr for CalibrateUnder {
     type Err = FidelityError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "flat" => Ok(Self::Flat),
-            "tread" => Ok(Self::Tread),
-            "tread_slope" => Ok(Self::TreadSlope),
-            _ => Err(FidelityError::invalid(
-                "calibrate_under",
-                format!("{s:?}"),
-                "\"flat\", \"tread\" or \"tread_slope\"",
-            )),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                FidelityError::invalid(
+                    "calibrate_under",
+                    format!("{s:?}"),
+                    crate::fidelity::one_of(Self::ALL.map(Self::name)),
+                )
+            })
     }
 }
 

@@ -550,6 +550,49 @@ mod tests {
         refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
     }
 
+    /// An unknown `[model]` name is refused with every name the key
+    /// accepts (a rung or a choice added later was once missing from
+    /// these messages), and every name listed is accepted.
+    #[test]
+    fn unknown_model_names_list_every_accepted_name() {
+        let model = |body: &str| format!("[model]\n{body}\n\n[rolling]");
+        for (key, listed) in [
+            (
+                "fidelity",
+                "\"wilke\", \"calibrated\", \"distributed\", \"clustered\" or \"calibrated_fields\"",
+            ),
+            ("calibrate_under", "\"flat\", \"tread\" or \"tread_slope\""),
+        ] {
+            let text = ROLLING.replacen(
+                "[rolling]",
+                &model(
+                    &format!("fidelity = \"calibrated\"\n{key} = \"best\"").replacen(
+                        "fidelity = \"calibrated\"\nfidelity",
+                        "fidelity",
+                        1,
+                    ),
+                ),
+                1,
+            );
+            let e = Scenario::parse(&text, "case").unwrap_err().to_string();
+            assert!(e.contains(listed), "{e}");
+            // Each listed name is known to the key's parser (a rung may
+            // still be refused where it does not apply: static-only rungs
+            // in a rolling run).
+            for name in listed.split(['"', ',', ' ']).filter(|w| w.len() > 2) {
+                let spec = crate::scenario::spec::ModelSpec {
+                    fidelity: Some(name.into()),
+                    calibrate_under: Some(name.into()),
+                };
+                let known = match key {
+                    "fidelity" => spec.fidelity().is_ok(),
+                    _ => spec.calibrate_under().is_ok(),
+                };
+                assert!(known, "{key} = {name:?}");
+            }
+        }
+    }
+
     /// `[model] calibrate_under`: known names only, and `"tread"` only
     /// where a tread meets calibrated caps (a rolling run on a texture's
     /// calibrated laws).

@@ -61,12 +61,15 @@ pub struct Scenario {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSpec {
-    /// `"wilke"` (default), `"calibrated"` or `"distributed"`.
+    /// A rung of `crate::fidelity::RUNGS` by name: `"wilke"` (default),
+    /// `"calibrated"`, `"distributed"`, `"clustered"` or
+    /// `"calibrated_fields"`.
     pub fidelity: Option<String>,
     /// What a rolling run's caps are calibrated under: `"flat"` (default,
-    /// a flat punch) or `"tread"` (the tread's local shape at each cap's
-    /// lateral position, `crate::fidelity::under_tread`); for `calibrated`
-    /// and `calibrated_fields` in a `[rolling]` run on a `[texture]`.
+    /// a flat punch), `"tread"` (the tread's local shape at each cap's
+    /// lateral position, `crate::fidelity::under_tread`) or `"tread_slope"`
+    /// (also at offsets along the path); for `calibrated` and
+    /// `calibrated_fields` in a `[rolling]` run on a `[texture]`.
     pub calibrate_under: Option<String>,
 }
 
@@ -81,7 +84,7 @@ impl ModelSpec {
             Some(name) => name.parse().map_err(|_| ScenarioError::Value {
                 key: "[model] fidelity".into(),
                 value: format!("{name:?}"),
-                expected: "\"wilke\", \"calibrated\" or \"distributed\"".into(),
+                expected: crate::fidelity::one_of(crate::fidelity::RUNGS.map(Fidelity::name)),
             }),
         }
     }
@@ -98,7 +101,7 @@ impl ModelSpec {
             Some(name) => name.parse().map_err(|_| ScenarioError::Value {
                 key: "[model] calibrate_under".into(),
                 value: format!("{name:?}"),
-                expected: "\"flat\" or \"tread\"".into(),
+                expected: crate::fidelity::one_of(CalibrateUnder::ALL.map(CalibrateUnder::name)),
             }),
         }
     }
