@@ -413,27 +413,35 @@ impl CalibratedLaw {
         if let Some(depth) = self.with_parts(|p| along::depth_for(p, force)) {
             return depth;
         }
-        if !(force > 0.0) {
-            return 0.0;
-        }
-        let (mut lo, mut hi) = (0.0, self.table.max_depth().max(1e-12));
-        while self.table.force_at(hi).0 < force {
-            lo = hi;
-            hi *= 2.0;
-            if hi > 1.0 {
-                return f64::NAN;
-            }
-        }
-        for _ in 0..80 {
-            let mid = 0.5 * (lo + hi);
-            if self.table.force_at(mid).0 < force {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        0.5 * (lo + hi)
+        depth_for_force(force, self.table.max_depth(), |d| self.table.force_at(d).0)
     }
+}
+
+/// The depth (m) at which a non-decreasing `force_at(δ)` reaches `force`:
+/// bisection in a bracket grown by doubling from `start` (the table's end,
+/// where most forces lie below); 0 for a force ≤ 0, NaN when not reached
+/// within a metre.
+fn depth_for_force(force: f64, start: f64, force_at: impl Fn(f64) -> f64) -> f64 {
+    if !(force > 0.0) {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, start.max(1e-12));
+    while force_at(hi) < force {
+        lo = hi;
+        hi *= 2.0;
+        if hi > 1.0 {
+            return f64::NAN;
+        }
+    }
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if force_at(mid) < force {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 impl ContactLaw for CalibratedLaw {

@@ -284,25 +284,6 @@ pub(super) fn unit_field(parts: &[Part; 2], depth: f64) -> Option<UnitField> {
 /// The depth at which the blend carries `force` (bisection on its
 /// monotone force), 0 for a force ≤ 0, NaN beyond a metre.
 pub(super) fn depth_for(parts: &[Part; 2], force: f64) -> f64 {
-    if !(force > 0.0) {
-        return 0.0;
-    }
     let start = parts.iter().map(Part::end).fold(0.0, f64::max);
-    let (mut lo, mut hi) = (0.0, start.max(1e-12));
-    while evaluate(parts, hi).force < force {
-        lo = hi;
-        hi *= 2.0;
-        if hi > 1.0 {
-            return f64::NAN;
-        }
-    }
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        if evaluate(parts, mid).force < force {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    super::depth_for_force(force, start, |d| evaluate(parts, d).force)
 }
