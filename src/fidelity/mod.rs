@@ -239,7 +239,7 @@ impl fmt::Display for Fidelity {
 }
 
 /// `"a", "b" or "c"`: the names a scenario key accepts, for its error.
-pub fn one_of<const N: usize>(names: [&str; N]) -> String {
+pub(crate) fn one_of<const N: usize>(names: [&str; N]) -> String {
     let quoted: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
     match quoted.split_last() {
         None => String::new(),
