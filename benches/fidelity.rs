@@ -14,7 +14,9 @@
 //! bin by bin in `f64`, `PairSum::Exact`, to show what packing them
 //! brings), the calibration (with fields) done once before timing (a later
 //! run reading its tables back from the checkpoint folder pays only the
-//! steps).
+//! steps). And what a first calibrated run pays before its steps: the
+//! calibration of the same 40 steps' road, its tables to the bound and to
+//! their estimated depth (`tyreroad::fidelity::table_depth`).
 //!
 //! The field: `multipoint::layouts::road_like_field` (mean spacing 3 mm,
 //! summit heights over 0.5 mm), its radii rounded to 0.5 mm classes so the
@@ -134,18 +136,29 @@ fn bench_rungs(c: &mut Criterion) {
 /// Steps of the chip-seal path timed by [`bench_rolling`].
 const ROLLING_STEPS: usize = 40;
 
-fn bench_rolling(c: &mut Criterion) {
-    use tyreroad::rolling::{RunOptions, roll};
-    use tyreroad::scenario::Scenario;
-    use tyreroad::shared::Par;
-
+/// The chip-seal fixture, its folder and its rolling path cut to
+/// [`ROLLING_STEPS`] steps.
+fn chip_seal_steps() -> (
+    tyreroad::scenario::Scenario,
+    std::path::PathBuf,
+    tyreroad::rolling::RollingConfig,
+) {
     let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
     let text =
         std::fs::read_to_string(fixture.join("rolling_tyre_chip_seal.toml")).expect("fixture");
-    let scenario = Scenario::parse(&text, "rolling_tyre_chip_seal.toml").expect("scenario");
-    let material = scenario.material().expect("material");
+    let scenario = tyreroad::scenario::Scenario::parse(&text, "rolling_tyre_chip_seal.toml")
+        .expect("scenario");
     let mut config = scenario.rolling_config().expect("rolling");
     config.end = config.start + (ROLLING_STEPS - 1) as f64 * config.step;
+    (scenario, fixture, config)
+}
+
+fn bench_rolling(c: &mut Criterion) {
+    use tyreroad::rolling::{RunOptions, roll};
+    use tyreroad::shared::Par;
+
+    let (scenario, fixture, config) = chip_seal_steps();
+    let material = scenario.material().expect("material");
     let wilke = scenario.texture_rolling_road(&fixture).expect("road");
     let t = std::time::Instant::now();
     let calibrated = calibrated_with_fields(&scenario, &fixture, &config);
@@ -202,14 +215,13 @@ fn bench_rolling(c: &mut Criterion) {
 /// mean pressure of the harness's 300 N on its 40 × 40 mm).
 fn bench_calibration(c: &mut Criterion) {
     use tyreroad::fidelity::calibrated_set;
-    use tyreroad::scenario::Scenario;
     use tyreroad::texture_road::{TextureRoadOptions, texture_road};
 
     let text = "name = \"calibration\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\n\
                 poisson_ratio = 0.5\n[texture]\nmin_prominence = \"0.2 mm\"\n\
                 min_area = \"2 mm2\"\n[texture.synth]\nnx = 200\nny = 200\n\
                 spacing = \"0.1 mm\"\nkind = \"worn_chip_seal\"\nseed = 19\n";
-    let scenario = Scenario::parse(text, "chip seal").expect("scenario");
+    let scenario = tyreroad::scenario::Scenario::parse(text, "chip seal").expect("scenario");
     let map = scenario
         .texture
         .as_ref()
@@ -244,27 +256,41 @@ fn bench_calibration(c: &mut Criterion) {
     group.finish();
 }
 
-/// The fixture's calibrated rolling road with its fields (what `[model]
-/// fidelity = "calibrated_fields"` rolls; its laws are the `calibrated`
-/// rung's, so both rungs are timed on it): the texture road in the
-/// scenario's frame (y centred on the map's mid-width, rolling order is
-/// not needed for timing), calibrated over `config`'s path.
-fn calibrated_with_fields(
+/// The fixture's texture road, its Wilke rolling road in the scenario's
+/// frame (y centred on the map's mid-width; rolling order is not needed for
+/// timing) and its height map.
+fn texture_roads(
     scenario: &tyreroad::scenario::Scenario,
     base: &std::path::Path,
-    config: &tyreroad::rolling::RollingConfig,
-) -> tyreroad::rolling::Road<CalibratedLaw> {
+) -> (
+    tyreroad::texture_road::TextureRoad,
+    tyreroad::rolling::Road<tyreroad::texture_road::TextureLaw>,
+    tyreroad::texture::HeightMap,
+) {
     use tyreroad::rolling::Road;
     let texture = scenario.texture.as_ref().expect("texture");
     let map = texture.height_map(base).expect("map");
     let material = scenario.material().expect("material");
     let troad = tyreroad::texture_road::texture_road(&map, material, &texture.road_options())
         .expect("texture road");
-    let radii = troad.summit_radii();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("set"))
-        .with_summit_radii(radii.clone())
+        .with_summit_radii(troad.summit_radii())
         .expect("radii");
+    (troad, wilke, map)
+}
+
+/// The fixture's calibrated rolling road with its fields (what `[model]
+/// fidelity = "calibrated_fields"` rolls; its laws are the `calibrated`
+/// rung's, so both rungs are timed on it), calibrated over `config`'s path.
+fn calibrated_with_fields(
+    scenario: &tyreroad::scenario::Scenario,
+    base: &std::path::Path,
+    config: &tyreroad::rolling::RollingConfig,
+) -> tyreroad::rolling::Road<CalibratedLaw> {
+    use tyreroad::rolling::Road;
+    let (troad, wilke, map) = texture_roads(scenario, base);
+    let material = scenario.material().expect("material");
     let calibrator = Calibrator::new(material, CalibrationOptions::default()).with_fields();
     let cal = tyreroad::fidelity::rolling::calibrate_rolling_road(
         &troad,
@@ -275,9 +301,56 @@ fn calibrated_with_fields(
         tyreroad::shared::Par::rayon(0),
     )
     .expect("calibration");
+    let radii = troad.summit_radii();
     let radii = cal.kept.iter().map(|&i| radii[i]).collect();
     Road::new(cal.set).with_summit_radii(radii).expect("radii")
 }
 
-criterion_group!(benches, bench_rungs, bench_rolling, bench_calibration);
+/// A rolling road's calibration (no fields, a new calibrator each time, so
+/// every table is solved; both cores) on the chip-seal fixture's 40-step
+/// path, its tables to the bound and to their estimated depth
+/// (`tyreroad::fidelity::table_depth`): what a first calibrated run pays
+/// before its steps.
+fn bench_rolling_tables(c: &mut Criterion) {
+    use tyreroad::fidelity::rolling::calibrate_rolling_road_under;
+    use tyreroad::fidelity::table_depth::TablePlan;
+    use tyreroad::fidelity::under_tread::CalibrateUnder;
+
+    let (scenario, fixture, config) = chip_seal_steps();
+    let material = scenario.material().expect("material");
+    let (troad, wilke, map) = texture_roads(&scenario, &fixture);
+    let mut group = c.benchmark_group("fidelity/rolling_tables_chip_seal_40_steps");
+    group.sample_size(10);
+    for (name, plan) in [
+        ("bound", TablePlan::bound(CalibrateUnder::Flat)),
+        ("estimated", TablePlan::new(CalibrateUnder::Flat)),
+    ] {
+        let run = || {
+            let calibrator = Calibrator::new(material, CalibrationOptions::default());
+            calibrate_rolling_road_under(
+                &troad,
+                &wilke,
+                &map,
+                &config,
+                &calibrator,
+                tyreroad::shared::Par::rayon(0),
+                &plan,
+            )
+            .expect("calibration")
+            .kept
+            .len()
+        };
+        eprintln!("{name}: {} caps", run());
+        group.bench_function(name, |b| b.iter(run));
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_rungs,
+    bench_rolling,
+    bench_calibration,
+    bench_rolling_tables
+);
 criterion_main!(benches);

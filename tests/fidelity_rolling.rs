@@ -7,8 +7,10 @@
 
 use tyreroad::contact_law::{ContactLaw, HertzLaw, Material};
 use tyreroad::fidelity::rolling::{
-    PastTables, calibrate_rolling_road, contacts_past_tables, profile_lifts, selectable,
+    PastTables, calibrate_rolling_road_under, contacts_past_tables, profile_lifts, selectable,
 };
+use tyreroad::fidelity::table_depth::TablePlan;
+use tyreroad::fidelity::under_tread::CalibrateUnder;
 use tyreroad::fidelity::{CalibrationOptions, Calibrator};
 use tyreroad::multipoint::AsperitySet;
 use tyreroad::rolling::{
@@ -68,6 +70,25 @@ fn converged(run: &RollingResult) {
     }
 }
 
+/// The road's caps under a flat punch, tables to the bound, on one thread.
+fn bound_tables(
+    road: &tyreroad::texture_road::TextureRoad,
+    wilke: &Road<tyreroad::texture_road::TextureLaw>,
+    map: &HeightMap,
+    config: &RollingConfig,
+    calibrator: &Calibrator,
+) -> Result<tyreroad::fidelity::rolling::RollingCalibration, Box<dyn std::error::Error>> {
+    Ok(calibrate_rolling_road_under(
+        road,
+        wilke,
+        map,
+        config,
+        calibrator,
+        tyreroad::shared::Par::Seq,
+        &TablePlan::bound(CalibrateUnder::Flat),
+    )?)
+}
+
 #[test]
 fn calibrated_caps_roll_like_hertz_and_key_their_own_checkpoints() -> TestResult {
     let m = material();
@@ -88,8 +109,11 @@ fn calibrated_caps_roll_like_hertz_and_key_their_own_checkpoints() -> TestResult
     assert_eq!(selectable(wilke.positions(), &config), first_two);
 
     let calibrator = Calibrator::new(m, CalibrationOptions::default());
-    let par = tyreroad::shared::Par::Seq;
-    let calibrated = calibrate_rolling_road(&road, &wilke, &map, &config, &calibrator, par)?;
+    // Tables to the bound, where the figures below were measured. The
+    // estimated tables (tyreroad::fidelity::table_depth) tabulate the lower
+    // cap over a shorter range, other knots: calibrated error 0.053 %,
+    // within the bound below but no longer 1.5 times under Wilke's.
+    let calibrated = bound_tables(&road, &wilke, &map, &config, &calibrator)?;
     assert_eq!(calibrated.kept, first_two);
     let kept_positions: Vec<[f64; 2]> = first_two.iter().map(|&i| wilke.positions()[i]).collect();
     let kept_heights: Vec<f64> = first_two.iter().map(|&i| wilke.heights()[i]).collect();
@@ -216,8 +240,9 @@ fn a_cap_the_tyre_lifts_is_tabulated_only_as_deep_as_the_path_presses_it() -> Te
     }
 
     let calibrator = Calibrator::new(m, CalibrationOptions::default());
-    let par = tyreroad::shared::Par::Seq;
-    let calibrated = calibrate_rolling_road(&road, &wilke, &map, &config, &calibrator, par)?;
+    // Tables to the bound (the estimate, tyreroad::fidelity::table_depth,
+    // stops shorter still).
+    let calibrated = bound_tables(&road, &wilke, &map, &config, &calibrator)?;
     let depth_max = calibrated.max_approach;
     let top = wilke
         .heights()

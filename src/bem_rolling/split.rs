@@ -29,6 +29,7 @@ use std::path::Path;
 use crate::bem::{BemOptions, Control as BemControl, Solver};
 use crate::fidelity::{
     CalibrationOptions, Calibrator, Fidelity, rolling::calibrate_rolling_road_under,
+    table_depth::TablePlan,
 };
 use crate::multipoint::Control;
 use crate::rolling::{ContactLaw, Road, RollingConfig, RollingControl, settled_step};
@@ -207,9 +208,16 @@ pub fn asperity_split(
                     .into(),
             ));
         }
-        let cal =
-            calibrate_rolling_road_under(&troad, &wilke, &map, &config, &calibrator, par, under)
-                .map_err(|e| invalid(format!("calibration: {e}")))?;
+        let cal = calibrate_rolling_road_under(
+            &troad,
+            &wilke,
+            &map,
+            &config,
+            &calibrator,
+            par,
+            &TablePlan::bound(under),
+        )
+        .map_err(|e| invalid(format!("calibration: {e}")))?;
         let radii = cal.kept.iter().map(|&i| radii[i]).collect();
         let road = Road::new(cal.set)
             .with_summit_radii(radii)

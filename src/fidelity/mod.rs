@@ -43,6 +43,7 @@ pub mod pair_sum;
 pub mod rolling;
 pub mod rolling_fields;
 pub mod segmentation;
+pub mod table_depth;
 mod texture;
 pub mod under_tread;
 

@@ -12,10 +12,16 @@
 //! The tables must cover the depths in use. At approach `δ0` (below the
 //! road's highest summit `z_top`) asperity `i` is pressed at most
 //! `δ0 − (z_top − z_i)` deep (the tread's profile `s ≥ 0` only lowers it),
-//! so tabulating every cap to `margin × max δ0` covers the run; `max δ0` is
-//! bounded by a Wilke run on a few evenly spaced steps of the same path
-//! ([`approach_bound`]), and beyond its table a calibrated law continues
-//! linearly, so a deeper step still solves.
+//! so tabulating every cap to `margin × max δ0` covers the run (the
+//! *bound*); `max δ0` is bounded by a Wilke run on a few evenly spaced
+//! steps of the same path ([`approach_bound`]), and beyond its table a
+//! calibrated law continues linearly, so a deeper step still solves. Under
+//! a tyre the bound's deep knots are mostly never reached (the tread's
+//! load sags the whole footprint): by default each table stops at the
+//! cap's *estimated* depth, the bulk sag of the same coarse run taken off
+//! ([`super::table_depth`]), and a whole run that presses a cap past its
+//! table is repeated with that cap tabulated to the bound
+//! ([`caps_past_tables`]).
 //!
 //! Invariants: the calibrated road keeps the Wilke road's positions,
 //! heights and order for the asperities it keeps (`kept[i]` is asperity
@@ -26,6 +32,7 @@
 use std::time::{Duration, Instant};
 
 use super::compare::APPROACH_MARGIN;
+use super::table_depth::{BulkSag, TablePlan, estimated_lift, exclusion_radius, sagged_lifts};
 use super::texture::calibrated_laws;
 use super::under_tread::{CalibrateUnder, CapShape, slope_nodes};
 use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError, PathNode};
@@ -49,6 +56,9 @@ pub struct RollingCalibration {
     pub kept: Vec<usize>,
     /// Largest approach (m) the tables cover.
     pub max_approach: f64,
+    /// The largest bulk sag (m) taken off the tables' depths (0 for tables
+    /// to the bound, [`super::table_depth`]).
+    pub bulk_sag: f64,
     /// Tables solved, and found in the calibrator's caches.
     pub counts: CacheCounts,
     /// Wall time of the approach bound and the calibration.
@@ -133,7 +143,7 @@ impl PastTables {
             format!(
                 "at {} step(s) {} contact(s) were pressed past their calibration tables \
                  (up to {:.2}× the force at the last knot; the laws continue linearly there): \
-                 the road's calibrated approach runs deeper than the tables' bound",
+                 the road's calibrated approach runs deeper than the tables reach",
                 self.steps, self.contacts, self.worst_ratio
             )
         })
@@ -141,33 +151,59 @@ impl PastTables {
 }
 
 /// Counts the contacts of `result` (a run on `road`) whose force exceeds
-/// the force at their law's last tabulated depth. The tables are sized to
-/// cover a run (`1.3 ×` the Wilke model's largest approach, less each cap's
-/// profile lift): on the fixtures none is passed; a road where the
-/// calibrated approach runs more than 30 % deeper than the Wilke one's
-/// shows here.
+/// the force at their law's last tabulated depth. Tables to the bound
+/// (`1.3 ×` the Wilke model's largest approach, less each cap's profile
+/// lift) are passed only where the calibrated approach runs more than 30 %
+/// deeper than the Wilke one's; tables to the estimated depth
+/// ([`super::table_depth`]) may be passed, and a whole scenario run then
+/// repeats itself with those caps tabulated to the bound: what is counted
+/// after its last round is what still passed.
 pub fn contacts_past_tables(
     road: &rolling::Road<CalibratedLaw>,
     result: &rolling::RollingResult,
 ) -> PastTables {
     let mut past = PastTables::default();
-    for step in &result.steps {
-        let mut any = false;
-        for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let Some(local) = road.local_id(id) else {
-                continue;
-            };
-            // A law placed along the path has the step's tables.
-            let last = road.law_at(local, step.position).tabulated_force();
-            if last > 0.0 && force > last * (1.0 + 1e-9) {
-                any = true;
-                past.contacts += 1;
-                past.worst_ratio = past.worst_ratio.max(force / last);
-            }
-        }
-        past.steps += usize::from(any);
+    let mut last_step = None;
+    for (k, _, ratio) in passes(road, result) {
+        past.contacts += 1;
+        past.worst_ratio = past.worst_ratio.max(ratio);
+        past.steps += usize::from(last_step != Some(k));
+        last_step = Some(k);
     }
     past
+}
+
+/// The asperities (indices in `road`, sorted) that `result`, a run on
+/// `road`, pressed past their tables at some step: those a repeated run
+/// tabulates to the bound ([`TablePlan::deepened`]).
+pub fn caps_past_tables(
+    road: &rolling::Road<CalibratedLaw>,
+    result: &rolling::RollingResult,
+) -> Vec<usize> {
+    let mut caps: Vec<usize> = passes(road, result).map(|(_, local, _)| local).collect();
+    caps.sort_unstable();
+    caps.dedup();
+    caps
+}
+
+/// Each contact of `result` pressed past its table, in step order: `(step
+/// index in the result, asperity index in road, force over the force at
+/// the table's last knot)`.
+fn passes<'a>(
+    road: &'a rolling::Road<CalibratedLaw>,
+    result: &'a rolling::RollingResult,
+) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    result.steps.iter().enumerate().flat_map(move |(k, step)| {
+        step.contact_ids
+            .iter()
+            .zip(&step.contact_forces)
+            .filter_map(move |(&id, &force)| {
+                let local = road.local_id(id)?;
+                // A law placed along the path has the step's tables.
+                let last = road.law_at(local, step.position).tabulated_force();
+                (last > 0.0 && force > last * (1.0 + 1e-9)).then_some((k, local, force / last))
+            })
+    })
 }
 
 /// The largest approach (m) of `road` (Wilke laws) over nine
@@ -182,6 +218,16 @@ pub fn approach_bound(
     config: &RollingConfig,
     par: Par,
 ) -> Result<f64, FidelityError> {
+    Ok(coarse_run(road, material, config, par)?.0)
+}
+
+/// [`approach_bound`] and the coarse run that gives it.
+fn coarse_run(
+    road: &rolling::Road<TextureLaw>,
+    material: Material,
+    config: &RollingConfig,
+    par: Par,
+) -> Result<(f64, rolling::RollingResult), FidelityError> {
     let mut coarse = config.clone();
     coarse.sensors.clear();
     let span = (config.end - config.start).abs();
@@ -198,7 +244,7 @@ pub fn approach_bound(
         .map(|s| s.approach)
         .fold(f64::NAN, f64::max);
     if bound.is_finite() && bound > 0.0 {
-        Ok(bound)
+        Ok((bound, run))
     } else {
         Err(FidelityError::invalid(
             "rolling approach bound",
@@ -208,7 +254,8 @@ pub fn approach_bound(
     }
 }
 
-/// [`calibrate_rolling_road_under`] a flat punch.
+/// [`calibrate_rolling_road_under`] a flat punch, tables to their
+/// estimated depth ([`TablePlan::new`]).
 ///
 /// # Errors
 /// As [`calibrate_rolling_road_under`].
@@ -227,14 +274,16 @@ pub fn calibrate_rolling_road(
         config,
         calibrator,
         par,
-        CalibrateUnder::Flat,
+        &TablePlan::new(CalibrateUnder::Flat),
     )
 }
 
 /// Calibrates the asperities of `road` that `config`'s path can select,
-/// each cap under a flat punch or the tread's local shape (`under`,
+/// each cap under a flat punch or the tread's local shape (`plan.under`,
 /// [`super::under_tread`]: an asperity may then be raised so that the
-/// model's gap is its cap's first contact).
+/// model's gap is its cap's first contact), each table as deep as `plan`
+/// says ([`super::table_depth`]: the bound, or the bound less the tread's
+/// bulk sag).
 /// `wilke` is the same road in the rolling frame with its Wilke laws (and
 /// summit radii, as the run uses them): it bounds the approach. `map` is the
 /// segmented height map. The calibration runs on `par`'s threads.
@@ -249,11 +298,14 @@ pub fn calibrate_rolling_road_under(
     config: &RollingConfig,
     calibrator: &Calibrator,
     par: Par,
-    under: CalibrateUnder,
+    plan: &TablePlan,
 ) -> Result<RollingCalibration, FidelityError> {
+    plan.validate()?;
     let clock = Instant::now();
-    let max_approach =
-        APPROACH_MARGIN * approach_bound(wilke, *calibrator.material(), config, par)?;
+    let under = plan.under;
+    let material = *calibrator.material();
+    let (bound, coarse) = coarse_run(wilke, material, config, par)?;
+    let max_approach = APPROACH_MARGIN * bound;
     let kept = selectable(wilke.positions(), config);
     if kept.is_empty() {
         return Err(FidelityError::invalid(
@@ -262,7 +314,21 @@ pub fn calibrate_rolling_road_under(
             "a path whose footprints cover at least one asperity",
         ));
     }
-    let lifts = profile_lifts(wilke, config, &kept);
+    let mut lifts = profile_lifts(wilke, config, &kept);
+    let rho = exclusion_radius(config, kept.len());
+    let bulk = (!plan.is_bound())
+        .then(|| BulkSag::from_steps(wilke, config, &coarse, rho, material.boussinesq_factor()))
+        .flatten();
+    if let Some(bulk) = &bulk {
+        let sagged = sagged_lifts(wilke, config, &kept, &lifts, bulk, plan.sag);
+        let top = wilke.top();
+        for (n, (lift, s)) in lifts.iter_mut().zip(sagged).enumerate() {
+            if plan.deepen.binary_search(&n).is_err() {
+                let headroom = top - wilke.heights()[kept[n]];
+                *lift = estimated_lift(s, headroom, *lift, APPROACH_MARGIN);
+            }
+        }
+    }
     let laws = match under {
         CalibrateUnder::TreadSlope => {
             let nodes = slope_nodes(&config.tread, config.margin);
@@ -294,6 +360,7 @@ pub fn calibrate_rolling_road_under(
         set,
         kept,
         max_approach,
+        bulk_sag: bulk.as_ref().map_or(0.0, BulkSag::max),
         counts: calibrator.counts(),
         time: clock.elapsed(),
     })

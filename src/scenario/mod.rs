@@ -25,6 +25,7 @@ mod history;
 pub mod output;
 mod ranges;
 mod rolling;
+mod rolling_calibrated;
 mod rolling_fields;
 mod rolling_npy;
 mod rolling_spec;

@@ -10,11 +10,11 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
+use super::rolling_calibrated::{roll_calibrated, roll_with_fields};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
-use super::texture::{TextureSummary, calibrated_texture_road_set_with, rolling_texture_road_set};
-use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
-use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
-use crate::fidelity::{CalibratedLaw, Fidelity};
+use super::texture::{TextureSummary, rolling_texture_road_set};
+use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::fidelity::Fidelity;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -155,9 +155,14 @@ pub(crate) fn rolling_on_road(
         // coupled through them (crate::fidelity::rolling_fields).
         match scenario.model.fidelity()? {
             Fidelity::Calibrated => {
-                let (road, summary) = calibrated_road(scenario, spec, options, texture, false)?;
-                let rolled = roll_road(scenario, &road, summary, material, spec, options, what)?;
-                return Ok(count_past_tables(rolled, &road));
+                let rolled = roll_calibrated(scenario, spec, options, texture, false, what, {
+                    |road, summary, what| {
+                        let rolled =
+                            roll_road(scenario, road, summary, material, spec, options, what)?;
+                        Ok((rolled, ()))
+                    }
+                })?;
+                return Ok(rolled.0);
             }
             Fidelity::CalibratedFields => {
                 return Ok(roll_with_fields(scenario, spec, options, texture, what)?.0);
@@ -302,81 +307,6 @@ pub(crate) fn rolling_on_road(
     }
 }
 
-/// The scenario's texture road with each selectable cap's calibrated law,
-/// with its fields when `fields`, and its summary.
-fn calibrated_road(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-    texture: &TextureSpec,
-    fields: bool,
-) -> Result<(rolling::Road<CalibratedLaw>, RoadSummary), ScenarioError> {
-    let material = scenario.material()?;
-    let config = scenario.rolling_config()?;
-    let par = options
-        .par
-        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-    // Tables are kept beside the checkpoints: a resumed or repeated run on
-    // the same road does not calibrate it again.
-    let cache = options
-        .checkpoint_dir
-        .as_deref()
-        .filter(|_| spec.checkpoint)
-        .map(|dir| dir.join("calibration"));
-    let (set, summary, radii) = calibrated_texture_road_set_with(
-        texture,
-        &options.base_dir,
-        material,
-        &config,
-        par,
-        cache.as_deref(),
-        fields,
-        scenario.model.calibrate_under()?,
-    )?;
-    let road = crate::fidelity::rolling::calibrated_rolling_road(set, radii)?;
-    Ok((road, RoadSummary::Texture(summary)))
-}
-
-/// The scenario's road with calibrated laws and their fields, rolled with
-/// each step coupled through the fields; the road and the coupling's
-/// counts come back beside the result (for recounts of its sensors).
-pub(super) fn roll_with_fields(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-    texture: &TextureSpec,
-    what: What,
-) -> Result<(Rolled, rolling::Road<CalibratedLaw>, FieldRollingStats), ScenarioError> {
-    let material = scenario.material()?;
-    let (road, summary) = calibrated_road(scenario, spec, options, texture, true)?;
-    let coupling = FieldRolling::with_defaults(&material)?;
-    let rolled = roll_road_with(
-        scenario,
-        (&road, Some(&coupling)),
-        summary,
-        material,
-        spec,
-        options,
-        what,
-    )?;
-    Ok((count_past_tables(rolled, &road), road, coupling.stats()))
-}
-
-/// A whole run on calibrated laws says how many of its contacts went past
-/// their tables ([`crate::fidelity::rolling::contacts_past_tables`]).
-fn count_past_tables(rolled: Rolled, road: &rolling::Road<CalibratedLaw>) -> Rolled {
-    let Rolled::Run(mut run) = rolled else {
-        return rolled;
-    };
-    let past = crate::fidelity::rolling::contacts_past_tables(road, &run.result);
-    if let RoadSummary::Texture(t) = &mut run.road
-        && let Some(cal) = &mut t.calibration
-    {
-        cal.past_tables = past;
-    }
-    Rolled::Run(run)
-}
-
 fn run_on<L: ContactLaw + Sync>(
     scenario: &Scenario,
     set: AsperitySet<L>,
@@ -390,7 +320,7 @@ fn run_on<L: ContactLaw + Sync>(
     roll_road(scenario, &road, summary, material, spec, options, what)
 }
 
-fn roll_road<L: ContactLaw + Sync>(
+pub(super) fn roll_road<L: ContactLaw + Sync>(
     scenario: &Scenario,
     road: &rolling::Road<L>,
     summary: RoadSummary,

@@ -4,7 +4,8 @@
 
 use tyreroad_rolling as rolling;
 
-use super::rolling::{Rolled, RollingRun, What, roll_with_fields};
+use super::rolling::{Rolled, RollingRun, What};
+use super::rolling_calibrated::roll_with_fields;
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::CalibratedLaw;
 use crate::fidelity::rolling_fields::FieldRollingStats;

@@ -520,7 +520,7 @@ impl Scenario {
             config,
             par,
             cache,
-            self.model.calibrate_under()?,
+            &crate::fidelity::table_depth::TablePlan::new(self.model.calibrate_under()?),
         )?;
         Ok(crate::fidelity::rolling::calibrated_rolling_road(
             set, radii,

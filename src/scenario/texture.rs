@@ -15,7 +15,7 @@ use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
 use crate::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
 use crate::fidelity::rolling::{PastTables, calibrate_rolling_road_under};
-use crate::fidelity::under_tread::CalibrateUnder;
+use crate::fidelity::table_depth::TablePlan;
 use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, Coupling, FidelityError, LawSource,
     calibrated_set,
@@ -55,13 +55,41 @@ pub struct CalibrationSummary {
     pub from_disk: usize,
     /// Largest approach the tables cover (m).
     pub max_approach: f64,
-    /// Wall time of the approach bound and the calibration.
+    /// The largest bulk sag taken off the tables' depths (m; 0 when every
+    /// table reaches the bound, `crate::fidelity::table_depth`).
+    pub bulk_sag: f64,
+    /// Tables redone to the bound because a run pressed their caps past
+    /// the estimated depth; the run was repeated on them (0: run once).
+    pub deepened: usize,
+    /// Wall time of the approach bound and the calibration (of every
+    /// round, when a run was repeated).
     pub time: std::time::Duration,
     /// Contacts the run pressed past their tables (filled once a whole
     /// elastic run is rolled; not counted, so zero, for a part of a
     /// distributed run and for a viscoelastic run, whose forces are not
     /// its laws' at one depth).
     pub past_tables: PastTables,
+}
+
+impl CalibrationSummary {
+    /// How deep the tables reached, for a run's report: the bulk sag taken
+    /// off them and the caps tabulated again to the bound (`None` when the
+    /// tables reach the bound).
+    pub fn depth_note(&self) -> Option<String> {
+        (self.bulk_sag > 0.0).then(|| {
+            let repeated = match self.deepened {
+                0 => "no contact passed them".to_string(),
+                n => format!(
+                    "{n} cap(s) a run pressed past them tabulated again to the bound and the run repeated"
+                ),
+            };
+            format!(
+                "tables to each cap's estimated depth, the tread's bulk sag (up to {:.3} mm) \
+                 taken off: {repeated}",
+                self.bulk_sag * 1e3
+            )
+        })
+    }
 }
 
 impl TextureSummary {
@@ -314,11 +342,9 @@ pub(crate) fn calibrated_texture_road_set(
     config: &tyreroad_rolling::RollingConfig,
     par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
-    under: CalibrateUnder,
+    plan: &TablePlan,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
-    calibrated_texture_road_set_with(
-        texture, base_dir, material, config, par, cache, false, under,
-    )
+    calibrated_texture_road_set_with(texture, base_dir, material, config, par, cache, false, plan)
 }
 
 /// [`calibrated_texture_road_set`], the tables keeping their binned
@@ -335,7 +361,7 @@ pub(crate) fn calibrated_texture_road_set_with(
     par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
     fields: bool,
-    under: CalibrateUnder,
+    plan: &TablePlan,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
     let road = scenario_road(&map, material, texture)?;
@@ -351,13 +377,15 @@ pub(crate) fn calibrated_texture_road_set_with(
         calibrator = calibrator.with_disk_cache(dir);
     }
     let calibrated =
-        calibrate_rolling_road_under(&road, &wilke, &map, config, &calibrator, par, under)?;
+        calibrate_rolling_road_under(&road, &wilke, &map, config, &calibrator, par, plan)?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
     summary.calibration = Some(CalibrationSummary {
         asperities: calibrated.kept.len(),
         tables: calibrated.counts.solved,
         from_disk: calibrated.counts.disk_hits,
         max_approach: calibrated.max_approach,
+        bulk_sag: calibrated.bulk_sag,
+        deepened: plan.deepen.len(),
         time: calibrated.time,
         past_tables: PastTables::default(),
     });

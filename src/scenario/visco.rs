@@ -575,7 +575,7 @@ impl Scenario {
                     par,
                     None,
                     fields,
-                    under,
+                    &crate::fidelity::table_depth::TablePlan::bound(under),
                 )?;
                 let road = rolling::Road::new(set).with_summit_radii(radii)?;
                 let sweep = Sweep {

@@ -3,6 +3,7 @@
 
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::rolling::{calibrate_rolling_road_under, calibrated_rolling_road};
+use tyreroad::fidelity::table_depth::TablePlan;
 use tyreroad::fidelity::under_tread::CalibrateUnder;
 use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator};
 use tyreroad::rolling::{Road, RollingConfig};
@@ -106,9 +107,16 @@ pub fn calibrated_road(
         .with_summit_radii(radii.clone())
         .expect("radii");
     let calibrator = Calibrator::new(m, CalibrationOptions::default()).with_fields();
-    let cal =
-        calibrate_rolling_road_under(&troad, &wilke, map, config, &calibrator, Par::Seq, under)
-            .expect("calibration");
+    let cal = calibrate_rolling_road_under(
+        &troad,
+        &wilke,
+        map,
+        config,
+        &calibrator,
+        Par::Seq,
+        &TablePlan::new(under),
+    )
+    .expect("calibration");
     let radii = cal.kept.iter().map(|&i| radii[i]).collect();
     (
         calibrated_rolling_road(cal.set, radii).expect("road"),

@@ -161,6 +161,9 @@ fn print_report(name: &str, run: &BemRollingRun) {
             cal.max_approach * 1e3,
             cal.time.as_secs_f64()
         );
+        if let Some(note) = cal.depth_note() {
+            say!("{note}");
+        }
         if let Some(warning) = cal.past_tables.warning() {
             say!("warning: {warning}");
         }

@@ -151,6 +151,9 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
             cal.from_disk,
             cal.time.as_secs_f64()
         );
+        if let Some(note) = cal.depth_note() {
+            say!("{note}");
+        }
         if let Some(warning) = cal.past_tables.warning() {
             say!("warning: {warning}");
         }
