@@ -31,9 +31,9 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
         "{e}"
     );
     let s = Scenario::parse(&texture_scenario("distributed"), "t").unwrap();
-    assert_eq!(s.model.fidelity().unwrap(), Fidelity::Distributed);
+    assert_eq!(s.fidelity().unwrap(), Fidelity::Distributed);
     let s = Scenario::parse(&texture_scenario("clustered"), "t").unwrap();
-    assert_eq!(s.model.fidelity().unwrap(), Fidelity::Clustered);
+    assert_eq!(s.fidelity().unwrap(), Fidelity::Clustered);
     // Calibrated laws are built from a texture's caps: not for balls.
     for fidelity in [
         "calibrated",
@@ -53,14 +53,14 @@ fn an_unknown_or_misplaced_fidelity_is_a_named_error() {
     // The field coupling is a static texture rung: accepted there, refused
     // on balls (no caps to calibrate) like the other calibrated rungs.
     let s = Scenario::parse(&texture_scenario("calibrated_fields"), "t").unwrap();
-    assert_eq!(s.model.fidelity().unwrap(), Fidelity::CalibratedFields);
+    assert_eq!(s.fidelity().unwrap(), Fidelity::CalibratedFields);
     // Absent means the paper's law.
     let s = Scenario::parse(
         &texture_scenario("wilke").replace("[model]\nfidelity = \"wilke\"\n", ""),
         "t",
     )
     .unwrap();
-    assert_eq!(s.model.fidelity().unwrap(), Fidelity::Wilke);
+    assert_eq!(s.fidelity().unwrap(), Fidelity::Wilke);
 }
 
 #[test]

@@ -15,6 +15,9 @@ fn the_converge_sweep_road_rolls_exactly_as_the_scenario_does() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/rolling_visco_bem_small.toml");
     let mut scenario = Scenario::from_path(&path).expect("fixture");
     scenario.material.viscoelastic = None;
+    // The sweep rolls the Wilke laws; an elastic texture run's default is
+    // the calibrated rung.
+    scenario.model.fidelity = Some("wilke".into());
     let spec = scenario.rolling.as_mut().expect("[rolling]");
     spec.end = Length::si(spec.start.value() + 7e-3); // 8 steps
     let base = path.parent().expect("fixtures dir");

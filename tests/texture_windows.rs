@@ -210,6 +210,9 @@ name = "texture_windows"
 [material]
 youngs_modulus = "6.54 MPa"
 poisson_ratio = 0.5
+# The Wilke laws: the rung that reads a .npy road by windows.
+[model]
+fidelity = "wilke"
 [rolling]
 start = "40 mm"
 end = "360 mm"

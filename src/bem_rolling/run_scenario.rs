@@ -158,7 +158,7 @@ pub fn run_scenario_comparison_against(
         ..RunOptions::new(base_dir)
     };
     let clock = Instant::now();
-    let (multipoint, field_road) = if scenario.model.fidelity()? == Fidelity::CalibratedFields {
+    let (multipoint, field_road) = if scenario.fidelity()? == Fidelity::CalibratedFields {
         let (run, road, stats) = run_calibrated_fields(&scenario, &run_options)?;
         (Box::new(run), Some((road, stats)))
     } else {
@@ -229,7 +229,7 @@ pub fn run_scenario_comparison_against(
         }
         None => None,
     };
-    let summit_gaps = if scenario.model.fidelity()? == Fidelity::Wilke {
+    let summit_gaps = if scenario.fidelity()? == Fidelity::Wilke {
         let summit_result = summit_gap_run(&scenario, &map, config, par)?;
         let summit_comparison = compare(
             &summit_result,

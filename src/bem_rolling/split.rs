@@ -189,7 +189,7 @@ pub fn asperity_split(
     };
     // A rung the split cannot solve is refused by name: it used to fall
     // back to the Wilke laws without a word.
-    let fidelity = scenario.model.fidelity()?;
+    let fidelity = scenario.fidelity()?;
     if !matches!(fidelity, Fidelity::Wilke | Fidelity::Calibrated) {
         return Err(invalid(format!(
             "asperity split: [model] fidelity {fidelity:?} is not supported (wilke or calibrated; \
@@ -215,7 +215,9 @@ pub fn asperity_split(
             &config,
             &calibrator,
             par,
-            &TablePlan::bound(under),
+            // The tables of the run's first round (a run that pressed caps
+            // past them and repeated itself has deeper ones for those caps).
+            &TablePlan::new(under),
         )
         .map_err(|e| invalid(format!("calibration: {e}")))?;
         let radii = cal.kept.iter().map(|&i| radii[i]).collect();

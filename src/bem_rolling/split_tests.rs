@@ -23,15 +23,29 @@ const SCENARIO: &str = "name = \"split\"\n[material]\nyoungs_modulus = \"6.54 MP
     [texture.synth]\nkind = \"aggregate\"\nnx = 150\nny = 100\nspacing = \"0.2 mm\"\n\
     grading = \"4/6\"\nseed = 2006\n";
 
+/// On both rungs the split can solve: the model's sensor force is the
+/// run's to `model_tolerance` of the load (the calibrated rung's split
+/// re-solves the step cold; measured 1.6e-5 of the load, Wilke's below
+/// 1e-5).
 #[test]
 fn the_split_s_sensor_forces_are_the_runs_it_splits() {
-    let scenario = Scenario::parse(SCENARIO, "split").expect("scenario");
+    for (fidelity, model_tolerance) in [("wilke", 1e-5), ("calibrated", 5e-5)] {
+        let text = SCENARIO.replace(
+            "name = \"split\"\n",
+            &format!("name = \"split\"\n[model]\nfidelity = \"{fidelity}\"\n"),
+        );
+        split_matches_its_runs(&text, model_tolerance);
+    }
+}
+
+fn split_matches_its_runs(text: &str, model_tolerance: f64) {
+    let scenario = Scenario::parse(text, "split").expect("scenario");
     let options = BemRollingOptions {
         par: Par::Seq,
         ..BemRollingOptions::default()
     };
     let split = asperity_split(
-        Scenario::parse(SCENARIO, "split").expect("scenario"),
+        Scenario::parse(text, "split").expect("scenario"),
         Path::new("."),
         &[15e-3],
         0,
@@ -71,7 +85,7 @@ fn the_split_s_sensor_forces_are_the_runs_it_splits() {
         s.bem_sensor
     );
     assert!(
-        (s.model_sensor - model_sensor).abs() < 1e-5 * load,
+        (s.model_sensor - model_sensor).abs() < model_tolerance * load,
         "split {} N, rolling run {model_sensor} N",
         s.model_sensor
     );

@@ -74,8 +74,12 @@ modulus = "5 MPa"
 relaxation_time = "20 us"
 "#;
 
+/// The elastic twin at `modulus`, on the viscoelastic run's rung (Wilke's
+/// laws, a viscoelastic tread's default; an elastic one's is calibrated).
 fn elastic(modulus: &str) -> String {
-    format!("[material]\nyoungs_modulus = \"{modulus}\"\npoisson_ratio = 0.5\n")
+    format!(
+        "[model]\nfidelity = \"wilke\"\n\n[material]\nyoungs_modulus = \"{modulus}\"\npoisson_ratio = 0.5\n"
+    )
 }
 
 fn options() -> BemRollingOptions {

@@ -437,7 +437,7 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
 /// `[model] fidelity`: a known rung, available, and one this kind of run
 /// implements (the calibrated laws are built from a texture's caps).
 fn check_fidelity(scenario: &Scenario) -> Result<(), ScenarioError> {
-    let fidelity = scenario.model.fidelity()?;
+    let fidelity = scenario.fidelity()?;
     if let Err(e) = fidelity.rung(&scenario.solver_options()) {
         return Err(bad(
             "[model] fidelity",
@@ -593,6 +593,38 @@ mod tests {
         }
     }
 
+    /// Without `[model] fidelity` an elastic rolling run on a texture takes
+    /// the calibrated laws and every other run Wilke's; a given fidelity
+    /// always wins.
+    #[test]
+    fn the_default_rung_is_calibrated_for_elastic_rolling_on_a_texture_only() {
+        use crate::fidelity::Fidelity;
+        let rung = |text: &str| Scenario::parse(text, "case").unwrap().fidelity().unwrap();
+        assert_eq!(rung(ROLLING), Fidelity::Calibrated);
+        assert_eq!(
+            rung(include_str!("../../fixtures/rolling_tyre_chip_seal.toml")),
+            Fidelity::Calibrated
+        );
+        assert_eq!(rung(VISCO), Fidelity::Wilke);
+        assert_eq!(rung(PAPER), Fidelity::Wilke);
+        assert_eq!(
+            rung(include_str!("../../fixtures/texture_block_static.toml")),
+            Fidelity::Wilke
+        );
+        assert_eq!(
+            rung(include_str!("../../fixtures/rolling_small.toml")),
+            Fidelity::Wilke
+        );
+        let wilke = ROLLING.replacen("[rolling]", "[model]\nfidelity = \"wilke\"\n\n[rolling]", 1);
+        assert_eq!(rung(&wilke), Fidelity::Wilke);
+        let visco_calibrated = VISCO.replacen(
+            "[rolling]",
+            "[model]\nfidelity = \"calibrated\"\n\n[rolling]",
+            1,
+        );
+        assert_eq!(rung(&visco_calibrated), Fidelity::Calibrated);
+    }
+
     /// `[model] calibrate_under`: known names only, and `"tread"` only
     /// where a tread meets calibrated caps (a rolling run on a texture's
     /// calibrated laws).
@@ -624,9 +656,12 @@ mod tests {
         refused(
             ROLLING,
             "[rolling]",
-            &model("calibrate_under = \"tread\""),
+            &model("fidelity = \"wilke\"\ncalibrate_under = \"tread\""),
             "[model] calibrate_under",
         );
+        // Without a fidelity an elastic rolling texture takes calibrated
+        // laws, and with them a tread to calibrate under.
+        assert!(Scenario::parse(&rolling("calibrate_under = \"tread\""), "case").is_ok());
         refused(
             PAPER,
             "[material]",
@@ -646,7 +681,7 @@ mod tests {
         refused(
             ROLLING,
             "[rolling]",
-            &model("calibrate_under = \"tread_slope\""),
+            &model("fidelity = \"wilke\"\ncalibrate_under = \"tread_slope\""),
             "[model] calibrate_under",
         );
         refused(

@@ -153,7 +153,7 @@ pub(crate) fn rolling_on_road(
         // selectable cap's BEM-calibrated law (crate::fidelity::rolling);
         // "calibrated_fields": the same laws with their fields, each step
         // coupled through them (crate::fidelity::rolling_fields).
-        match scenario.model.fidelity()? {
+        match scenario.fidelity()? {
             Fidelity::Calibrated => {
                 let rolled = roll_calibrated(scenario, spec, options, texture, false, what, {
                     |road, summary, what| {

@@ -22,7 +22,7 @@ pub(super) fn npy_window_road(
     let Some(texture) = &scenario.texture else {
         return Ok(None);
     };
-    if scenario.model.fidelity()? != Fidelity::Wilke {
+    if scenario.fidelity()? != Fidelity::Wilke {
         return Ok(None);
     }
     let Some(path) = npy_file(texture, options) else {

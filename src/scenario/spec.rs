@@ -61,9 +61,10 @@ pub struct Scenario {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSpec {
-    /// A rung of `crate::fidelity::RUNGS` by name: `"wilke"` (default),
+    /// A rung of `crate::fidelity::RUNGS` by name: `"wilke"`,
     /// `"calibrated"`, `"distributed"`, `"clustered"` or
-    /// `"calibrated_fields"`.
+    /// `"calibrated_fields"`; when not given, the run's kind chooses
+    /// ([`Scenario::default_fidelity`]).
     pub fidelity: Option<String>,
     /// What a rolling run's caps are calibrated under: `"flat"` (default,
     /// a flat punch), `"tread"` (the tread's local shape at each cap's
@@ -74,19 +75,22 @@ pub struct ModelSpec {
 }
 
 impl ModelSpec {
-    /// The rung asked for, [`Fidelity::Wilke`] when not given.
+    /// The rung asked for, `None` when not given (the run's kind then
+    /// chooses, [`Scenario::fidelity`]).
     ///
     /// # Errors
     /// [`ScenarioError::Value`] naming `[model] fidelity` for an unknown name.
-    pub fn fidelity(&self) -> Result<Fidelity> {
-        match &self.fidelity {
-            None => Ok(Fidelity::Wilke),
-            Some(name) => name.parse().map_err(|_| ScenarioError::Value {
-                key: "[model] fidelity".into(),
-                value: format!("{name:?}"),
-                expected: crate::fidelity::one_of(crate::fidelity::RUNGS.map(Fidelity::name)),
-            }),
-        }
+    pub fn fidelity(&self) -> Result<Option<Fidelity>> {
+        self.fidelity
+            .as_ref()
+            .map(|name| {
+                name.parse().map_err(|_| ScenarioError::Value {
+                    key: "[model] fidelity".into(),
+                    value: format!("{name:?}"),
+                    expected: crate::fidelity::one_of(crate::fidelity::RUNGS.map(Fidelity::name)),
+                })
+            })
+            .transpose()
     }
 
     /// What caps are calibrated under, [`CalibrateUnder::Flat`] when not
@@ -413,6 +417,36 @@ pub struct AsperitySpec {
 }
 
 impl Scenario {
+    /// The rung this scenario's run takes: `[model] fidelity` when given,
+    /// else [`Scenario::default_fidelity`].
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming `[model] fidelity` for an unknown name.
+    pub fn fidelity(&self) -> Result<Fidelity> {
+        Ok(self
+            .model
+            .fidelity()?
+            .unwrap_or_else(|| self.default_fidelity()))
+    }
+
+    /// The rung a scenario takes without `[model] fidelity`: the best rung
+    /// that keeps issue 15's cost targets for its kind of run.
+    /// `calibrated` for an elastic `[rolling]` run on a `[texture]` (a first
+    /// run within 2.5× of the Wilke run's time on the fixtures, the tables
+    /// read back by a later run, and about a hundred times cheaper than the
+    /// BEM rolling reference; docs/performance.md, "Tables as deep as the
+    /// run presses"). `wilke` otherwise: a static texture's calibration
+    /// costs more than its BEM solve, a viscoelastic run's calibrated cost
+    /// is not measured, and the other roads have no caps to calibrate.
+    pub fn default_fidelity(&self) -> Fidelity {
+        if self.rolling.is_some() && self.texture.is_some() && self.material.viscoelastic.is_none()
+        {
+            Fidelity::Calibrated
+        } else {
+            Fidelity::Wilke
+        }
+    }
+
     /// The material, validated.
     pub fn material(&self) -> Result<Material> {
         Material::new(

@@ -161,10 +161,7 @@ pub(crate) fn run_texture_static(
         let context = context.to_string();
         move |source| ScenarioError::Solve { context, source }
     };
-    let rung = scenario
-        .model
-        .fidelity()?
-        .rung(&scenario.solver_options())?;
+    let rung = scenario.fidelity()?.rung(&scenario.solver_options())?;
     let solved = match rung.laws {
         LawSource::Potential => {
             let problem = Problem::from_set(road.set, material)

@@ -539,7 +539,7 @@ impl Scenario {
             cases,
         };
         if let Some(texture) = &self.texture {
-            let fidelity = self.model.fidelity()?;
+            let fidelity = self.fidelity()?;
             if matches!(fidelity, Fidelity::Calibrated | Fidelity::CalibratedFields) {
                 // Each cap's hereditary law takes the shape of its calibrated
                 // elastic law (linear in the modulus, so the law per unit

@@ -3,9 +3,12 @@
 //! and step length, and one table of how its steps ended (issue 14: Newton
 //! converges everywhere; docs/validation.md keeps the table).
 //!
-//! The road is built once; each run is the scenario's `[rolling]` with its
-//! load and step replaced, rolled on one thread as one warm-started chunk
-//! (as `cargo xtask run` with one thread), at the scenario's tolerance.
+//! The road is built once, on the Wilke laws whatever the scenario's
+//! `[model] fidelity` (the sweep measures Newton's convergence on the
+//! paper's laws; a calibrated road would be calibrated once per load); each
+//! run is the scenario's `[rolling]` with its load and step replaced,
+//! rolled on one thread as one warm-started chunk (as `cargo xtask run`
+//! with one thread), at the scenario's tolerance.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -92,7 +95,7 @@ pub fn run(args: &ConvergeSweepArgs) -> Result<()> {
     let t = Instant::now();
     let road = scenario.texture_rolling_road(&base)?;
     eprintln!(
-        "converge-sweep: road of {} asperities built in {:.1} s",
+        "converge-sweep: road of {} asperities (Wilke laws) built in {:.1} s",
         road.len(),
         t.elapsed().as_secs_f64()
     );

@@ -52,6 +52,11 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         scenario.model.calibrate_under()?;
     }
     if args.elastic {
+        // The elastic runs of a viscoelastic comparison keep its rung (a
+        // viscoelastic tread's default, not an elastic one's).
+        if scenario.model.fidelity.is_none() {
+            scenario.model.fidelity = Some(scenario.fidelity()?.name().to_string());
+        }
         scenario.material.viscoelastic = None;
     } else if scenario.material.viscoelastic.is_some() {
         if let Some(dir) = &args.bem_from {
@@ -70,7 +75,7 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     }
     say!(
         "model fidelity: {}{}",
-        scenario.model.fidelity()?,
+        scenario.fidelity()?,
         if args.bem_from.is_some() {
             "; BEM signals read back"
         } else {
