@@ -10,44 +10,33 @@ use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 
 use super::rolling::{RoadSummary, Rolled, What, roll_road_with};
-use super::texture::calibrated_texture_road_set_with;
+use super::texture::{calibrated_texture_road_set_with, rolling_calibrator};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
-use crate::fidelity::CalibratedLaw;
 use crate::fidelity::rolling::caps_past_tables;
 use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
 use crate::fidelity::table_depth::TablePlan;
+use crate::fidelity::{CalibratedLaw, Calibrator};
 
-/// The scenario's texture road with each selectable cap's calibrated law,
-/// with its fields when `fields`, tabulated as `plan` says, and its
-/// summary.
+/// The scenario's texture road with each selectable cap's law from
+/// `calibrator`, tabulated as `plan` says, and its summary.
 fn calibrated_road(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
     texture: &TextureSpec,
-    fields: bool,
+    calibrator: &Calibrator,
     plan: &TablePlan,
 ) -> Result<(rolling::Road<CalibratedLaw>, RoadSummary), ScenarioError> {
-    let material = scenario.material()?;
     let config = scenario.rolling_config()?;
     let par = options
         .par
         .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
-    // Tables are kept beside the checkpoints: a resumed or repeated run on
-    // the same road does not calibrate it again.
-    let cache = options
-        .checkpoint_dir
-        .as_deref()
-        .filter(|_| spec.checkpoint)
-        .map(|dir| dir.join("calibration"));
     let (set, summary, radii) = calibrated_texture_road_set_with(
         texture,
         &options.base_dir,
-        material,
         &config,
         par,
-        cache.as_deref(),
-        fields,
+        calibrator,
         plan,
     )?;
     let road = crate::fidelity::rolling::calibrated_rolling_road(set, radii)?;
@@ -104,8 +93,18 @@ fn roll_calibrated_from<T>(
     let whole = matches!(what, What::Whole);
     let mut what = Some(what);
     let mut spent = Duration::ZERO;
+    // Tables are kept beside the checkpoints: a resumed or repeated run on
+    // the same road does not calibrate it again. One calibrator for every
+    // round: a repeated run solves only the deepened caps' tables.
+    let cache = options
+        .checkpoint_dir
+        .as_deref()
+        .filter(|_| spec.checkpoint)
+        .map(|dir| dir.join("calibration"));
+    let calibrator = rolling_calibrator(scenario.material()?, cache.as_deref(), fields);
     for round in 1.. {
-        let (road, mut summary) = calibrated_road(scenario, spec, options, texture, fields, &plan)?;
+        let (road, mut summary) =
+            calibrated_road(scenario, spec, options, texture, &calibrator, &plan)?;
         if let RoadSummary::Texture(t) = &mut summary
             && let Some(cal) = &mut t.calibration
         {
@@ -273,10 +272,10 @@ mod tests {
         Ok(())
     }
 
-    /// Tables far too shallow (fifty times the bulk sag taken
-    /// off): the first round presses caps past them, the next rounds
-    /// tabulate those to the bound, and the last run lies inside its
-    /// tables and rolls as the run on tables to the bound does.
+    /// Tables far too shallow (fifty times the bulk sag taken off): the
+    /// first round presses caps past them, the next rounds tabulate those
+    /// to the bound (solving no other table again), and the last run lies
+    /// inside its tables and rolls as the run on tables to the bound does.
     #[test]
     fn a_run_past_its_estimated_tables_is_repeated_on_deeper_ones() -> Result<(), ScenarioError> {
         let shallow = TablePlan {
@@ -286,6 +285,12 @@ mod tests {
         let (run, road) = roll_from(shallow)?;
         let cal = calibration(&run);
         assert!(cal.deepened > 0, "{cal:?}");
+        // One calibrator for every round: the later rounds solved only the
+        // deepened caps' tables (each cap a table of its own here).
+        assert!(
+            cal.tables > cal.asperities && cal.tables <= cal.asperities + cal.deepened,
+            "{cal:?}"
+        );
         assert_eq!(cal.past_tables, PastTables::default(), "{cal:?}");
         assert!(caps_past_tables(&road, &run.result).is_empty());
         let (bound, _) = roll_from(TablePlan::bound(CalibrateUnder::Flat))?;

@@ -341,31 +341,19 @@ pub(crate) fn calibrated_texture_road_set(
     cache: Option<&Path>,
     plan: &TablePlan,
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
-    calibrated_texture_road_set_with(texture, base_dir, material, config, par, cache, false, plan)
+    let calibrator = rolling_calibrator(material, cache, false);
+    calibrated_texture_road_set_with(texture, base_dir, config, par, &calibrator, plan)
 }
 
-/// [`calibrated_texture_road_set`], the tables keeping their binned
-/// pressure fields when `fields` (`[model] fidelity = "calibrated_fields"`;
-/// `Calibrator::with_fields` neither reads nor writes the disk cache, so
-/// `cache` is then unused); each cap under `under` (`[model]
-/// calibrate_under`, `crate::fidelity::under_tread`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn calibrated_texture_road_set_with(
-    texture: &TextureSpec,
-    base_dir: &Path,
+/// The calibrator of a rolling road's laws: the default options, the
+/// tables keeping their binned pressure fields when `fields` (`[model]
+/// fidelity = "calibrated_fields"`), kept in and read back from `cache`
+/// when given.
+pub(crate) fn rolling_calibrator(
     material: Material,
-    config: &tyreroad_rolling::RollingConfig,
-    par: tyreroad_multipoint::Par,
     cache: Option<&Path>,
     fields: bool,
-    plan: &TablePlan,
-) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
-    let map = texture.height_map(base_dir)?;
-    let road = scenario_road(&map, material, texture)?;
-    let mut summary = TextureSummary::new(&map, &road);
-    let radii = road.summit_radii();
-    let set = centred_on_mid_width(road.set.clone(), &map)?;
-    let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
+) -> Calibrator {
     let mut calibrator = Calibrator::new(material, CalibrationOptions::default());
     if fields {
         calibrator = calibrator.with_fields();
@@ -373,8 +361,31 @@ pub(crate) fn calibrated_texture_road_set_with(
     if let Some(dir) = cache {
         calibrator = calibrator.with_disk_cache(dir);
     }
+    calibrator
+}
+
+/// [`calibrated_texture_road_set`] by `calibrator` (on its material, with
+/// fields when it keeps them, [`rolling_calibrator`]; a calibrator used
+/// again solves only the tables it has not solved yet), each cap under and
+/// as deep as `plan` says (`[model] calibrate_under`,
+/// `crate::fidelity::under_tread`, `crate::fidelity::table_depth`).
+pub(crate) fn calibrated_texture_road_set_with(
+    texture: &TextureSpec,
+    base_dir: &Path,
+    config: &tyreroad_rolling::RollingConfig,
+    par: tyreroad_multipoint::Par,
+    calibrator: &Calibrator,
+    plan: &TablePlan,
+) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
+    let material = *calibrator.material();
+    let map = texture.height_map(base_dir)?;
+    let road = scenario_road(&map, material, texture)?;
+    let mut summary = TextureSummary::new(&map, &road);
+    let radii = road.summit_radii();
+    let set = centred_on_mid_width(road.set.clone(), &map)?;
+    let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
     let calibrated =
-        calibrate_rolling_road_under(&road, &wilke, &map, config, &calibrator, par, plan)?;
+        calibrate_rolling_road_under(&road, &wilke, &map, config, calibrator, par, plan)?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
     summary.calibration = Some(CalibrationSummary {
         asperities: calibrated.kept.len(),

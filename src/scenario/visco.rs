@@ -19,7 +19,7 @@ use tyreroad_viscoelastic::{
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
-use super::texture::{calibrated_texture_road_set_with, texture_road_set};
+use super::texture::{calibrated_texture_road_set_with, rolling_calibrator, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::rolling_fields::FieldRolling;
@@ -570,11 +570,9 @@ impl Scenario {
                 let (set, summary, radii) = calibrated_texture_road_set_with(
                     texture,
                     &options.base_dir,
-                    reference,
                     &config,
                     par,
-                    None,
-                    fields,
+                    &rolling_calibrator(reference, None, fields),
                     &crate::fidelity::table_depth::TablePlan::bound(under),
                 )?;
                 let road = rolling::Road::new(set).with_summit_radii(radii)?;
