@@ -190,8 +190,12 @@ impl Scenario {
                     .into(),
             ));
         }
-        match rolling::rolling_on_road(self, spec, options, rolling::What::Part { steps, warmup })?
-        {
+        match rolling_calibrated::rolling_on_road(
+            self,
+            spec,
+            options,
+            rolling::What::Part { steps, warmup },
+        )? {
             rolling::Rolled::Part(part) => Ok(part),
             _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
         }
@@ -210,7 +214,12 @@ impl Scenario {
         result: tyreroad_rolling::RollingResult,
     ) -> Result<RollingRun, ScenarioError> {
         let spec = self.rolling_section()?;
-        match rolling::rolling_on_road(self, spec, options, rolling::What::Gathered(result))? {
+        match rolling_calibrated::rolling_on_road(
+            self,
+            spec,
+            options,
+            rolling::What::Gathered(result),
+        )? {
             rolling::Rolled::Run(run) => Ok(*run),
             _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
         }
@@ -240,7 +249,7 @@ impl Scenario {
             };
         }
         if let Some(spec) = &self.rolling {
-            return rolling::run_rolling(self, spec, options)
+            return rolling_calibrated::run_rolling(self, spec, options)
                 .map(|r| ScenarioResult::Rolling(Box::new(r)));
         }
         if self.texture.is_some() {

@@ -10,11 +10,9 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
-use super::rolling_calibrated::{roll_calibrated, roll_with_fields};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::fidelity::Fidelity;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -128,20 +126,10 @@ pub(crate) enum Rolled {
     Road(RoadSummary, Box<dyn SummitSource>),
 }
 
-/// Runs `[rolling]` on the scenario's road.
-pub(crate) fn run_rolling(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-) -> Result<RollingRun, ScenarioError> {
-    match rolling_on_road(scenario, spec, options, What::Whole)? {
-        Rolled::Run(run) => Ok(*run),
-        _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
-    }
-}
-
-/// Builds the scenario's road and does `what` on it.
-pub(crate) fn rolling_on_road(
+/// Builds the scenario's road on uncalibrated laws (the calibrated rungs
+/// are `super::rolling_calibrated::rolling_on_road`'s) and does `what` on
+/// it.
+pub(crate) fn rolling_on_uncalibrated_road(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
@@ -149,26 +137,6 @@ pub(crate) fn rolling_on_road(
 ) -> Result<Rolled, ScenarioError> {
     let material = scenario.material()?;
     if let Some(texture) = &scenario.texture {
-        // `[model] fidelity = "calibrated"`: the same road with each
-        // selectable cap's BEM-calibrated law (crate::fidelity::rolling);
-        // "calibrated_fields": the same laws with their fields, each step
-        // coupled through them (crate::fidelity::rolling_fields).
-        match scenario.fidelity()? {
-            Fidelity::Calibrated => {
-                let rolled = roll_calibrated(scenario, spec, options, texture, false, what, {
-                    |road, summary, what| {
-                        let rolled =
-                            roll_road(scenario, road, summary, material, spec, options, what)?;
-                        Ok((rolled, ()))
-                    }
-                })?;
-                return Ok(rolled.0);
-            }
-            Fidelity::CalibratedFields => {
-                return Ok(roll_with_fields(scenario, spec, options, texture, what)?.0);
-            }
-            _ => {}
-        }
         // A rank's part on a `.npy` texture: windows of the file, the same
         // asperities by the same ids as the whole road's (other formats,
         // and calibrated laws above, are read whole: docs/distributed.md,
@@ -463,46 +431,6 @@ fn gather_piece(
     }
 }
 
-/// Rolls the steps `steps` (a rank's part, each piece started `warmup`
-/// steps early) and hands the records to `sink` in path order: piece by
-/// piece on a synthetic road (so the caller need not hold the part), the
-/// whole part at once on other roads.
-pub(crate) fn roll_part_into(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-    (steps, warmup): (std::ops::Range<usize>, usize),
-    sink: &mut PieceSink<'_>,
-) -> Result<(), ScenarioError> {
-    let material = scenario.material()?;
-    let part = (steps.clone(), warmup);
-    if let (None, true, Some(synth)) = (
-        &scenario.texture,
-        scenario.asperities.is_empty(),
-        &spec.synthetic_road,
-    ) {
-        let windows = synth.road().windows(material)?;
-        let summary = RoadSummary::Synthetic {
-            count: windows.count(),
-        };
-        let window = |range| Ok(windows.window(range)?);
-        return roll_part_on_windows(
-            scenario, material, spec, options, part, summary, window, sink,
-        );
-    }
-    if let Some(road) = npy_window_road(scenario, options, material)? {
-        let summary = RoadSummary::Asperities { count: road.len() };
-        let window = |range| Ok(road.window(range)?);
-        return roll_part_on_windows(
-            scenario, material, spec, options, part, summary, window, sink,
-        );
-    }
-    match rolling_on_road(scenario, spec, options, What::Part { steps, warmup })? {
-        Rolled::Part(part) => sink(part),
-        _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
-    }
-}
-
 /// Gathers the pieces that `roll` hands to its sink into one part of
 /// `steps` steps.
 fn gather_part(
@@ -524,7 +452,7 @@ fn gather_part(
 /// from; each piece's records go to `sink`, in path order. `summary` only
 /// labels the pieces' runs: a part's records carry none.
 #[allow(clippy::too_many_arguments)]
-fn roll_part_on_windows<L: ContactLaw + Sync>(
+pub(super) fn roll_part_on_windows<L: ContactLaw + Sync>(
     scenario: &Scenario,
     material: Material,
     spec: &RollingSpec,

@@ -1,21 +1,112 @@
-//! A `[rolling]` run on calibrated laws: the road's tables calibrated as a
-//! [`TablePlan`] says, and a whole run repeated while it presses caps past
-//! tables that stop at their estimated depth
-//! (`crate::fidelity::table_depth`, docs/validation.md "Calibrated laws in
-//! rolling").
+//! Which laws a `[rolling]` run takes, and a run on calibrated laws: the
+//! road's tables calibrated as a [`TablePlan`] says, and a whole run
+//! repeated while it presses caps past tables that stop at their estimated
+//! depth (`crate::fidelity::table_depth`, docs/validation.md "Calibrated
+//! laws in rolling"). The other roads are `super::rolling`'s; this module
+//! calls into it, never the reverse.
 
 use std::time::Duration;
 
 use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 
-use super::rolling::{RoadSummary, Rolled, What, roll_road_with};
+use super::rolling::{
+    PieceSink, RoadSummary, Rolled, RollingRun, What, roll_part_on_windows, roll_road,
+    roll_road_with, rolling_on_uncalibrated_road,
+};
+use super::rolling_npy::npy_window_road;
 use super::texture::{calibrated_texture_road_set_with, rolling_calibrator};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::rolling::caps_past_tables;
 use crate::fidelity::rolling_fields::{FieldRolling, FieldRollingStats};
 use crate::fidelity::table_depth::TablePlan;
-use crate::fidelity::{CalibratedLaw, Calibrator};
+use crate::fidelity::{CalibratedLaw, Calibrator, Fidelity};
+
+/// Runs `[rolling]` on the scenario's road.
+pub(crate) fn run_rolling(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+) -> Result<RollingRun, ScenarioError> {
+    match rolling_on_road(scenario, spec, options, What::Whole)? {
+        Rolled::Run(run) => Ok(*run),
+        _ => Err(ScenarioError::Invalid("a whole run gave a part".into())),
+    }
+}
+
+/// Builds the scenario's road and does `what` on it: on a texture, with
+/// the calibrated rungs, here; otherwise
+/// [`rolling_on_uncalibrated_road`].
+pub(crate) fn rolling_on_road(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    what: What,
+) -> Result<Rolled, ScenarioError> {
+    let Some(texture) = &scenario.texture else {
+        return rolling_on_uncalibrated_road(scenario, spec, options, what);
+    };
+    // `[model] fidelity = "calibrated"`: the same road with each
+    // selectable cap's BEM-calibrated law (crate::fidelity::rolling);
+    // "calibrated_fields": the same laws with their fields, each step
+    // coupled through them (crate::fidelity::rolling_fields).
+    match scenario.fidelity()? {
+        Fidelity::Calibrated => {
+            let material = scenario.material()?;
+            let rolled = roll_calibrated(scenario, spec, options, texture, false, what, {
+                |road, summary, what| {
+                    let rolled = roll_road(scenario, road, summary, material, spec, options, what)?;
+                    Ok((rolled, ()))
+                }
+            })?;
+            Ok(rolled.0)
+        }
+        Fidelity::CalibratedFields => {
+            Ok(roll_with_fields(scenario, spec, options, texture, what)?.0)
+        }
+        _ => rolling_on_uncalibrated_road(scenario, spec, options, what),
+    }
+}
+
+/// Rolls the steps `steps` (a rank's part, each piece started `warmup`
+/// steps early) and hands the records to `sink` in path order: piece by
+/// piece on a synthetic road (so the caller need not hold the part), the
+/// whole part at once on other roads.
+pub(crate) fn roll_part_into(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    (steps, warmup): (std::ops::Range<usize>, usize),
+    sink: &mut PieceSink<'_>,
+) -> Result<(), ScenarioError> {
+    let material = scenario.material()?;
+    let part = (steps.clone(), warmup);
+    if let (None, true, Some(synth)) = (
+        &scenario.texture,
+        scenario.asperities.is_empty(),
+        &spec.synthetic_road,
+    ) {
+        let windows = synth.road().windows(material)?;
+        let summary = RoadSummary::Synthetic {
+            count: windows.count(),
+        };
+        let window = |range| Ok(windows.window(range)?);
+        return roll_part_on_windows(
+            scenario, material, spec, options, part, summary, window, sink,
+        );
+    }
+    if let Some(road) = npy_window_road(scenario, options, material)? {
+        let summary = RoadSummary::Asperities { count: road.len() };
+        let window = |range| Ok(road.window(range)?);
+        return roll_part_on_windows(
+            scenario, material, spec, options, part, summary, window, sink,
+        );
+    }
+    match rolling_on_road(scenario, spec, options, What::Part { steps, warmup })? {
+        Rolled::Part(part) => sink(part),
+        _ => Err(ScenarioError::Invalid("a part gave a whole run".into())),
+    }
+}
 
 /// The scenario's texture road with each selectable cap's law from
 /// `calibrator`, tabulated as `plan` says, and its summary.
@@ -58,7 +149,7 @@ const CALIBRATED_ROUNDS: usize = 3;
 /// rank 0 counts the gathered run's contacts past their tables and reports
 /// them, and the run then differs from the single process's, which
 /// repeated itself.
-pub(super) fn roll_calibrated<T>(
+fn roll_calibrated<T>(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
@@ -180,7 +271,6 @@ mod tests {
     use super::*;
     use crate::fidelity::rolling::PastTables;
     use crate::fidelity::under_tread::CalibrateUnder;
-    use crate::scenario::rolling::{RollingRun, roll_road};
     use crate::scenario::texture::CalibrationSummary;
 
     /// A tyre over a small aggregate texture, calibrated laws.

@@ -8,7 +8,8 @@ use tyreroad_rolling as rolling;
 
 use super::output::steps_stream::StepSignals;
 use super::output::summits::SummitSource;
-use super::rolling::{Rolled, Signals, What, roll_part_into, rolling_on_road, spectra_of};
+use super::rolling::{Rolled, Signals, What, spectra_of};
+use super::rolling_calibrated::{roll_part_into, rolling_on_road};
 use super::{RoadSummary, RunOptions, Scenario, ScenarioError, Spectra};
 
 /// A rolling run finished from its signals: what the end-of-run outputs
