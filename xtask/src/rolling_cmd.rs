@@ -49,6 +49,15 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<F
         progress: Some(&progress),
         checkpoint_dir: Some(out.join("checkpoint")),
     };
+    // A rung the user did not choose is named before the calibration's
+    // seconds (an elastic rolling texture's default is no longer Wilke's).
+    let fidelity = scenario.fidelity()?;
+    if scenario.model.fidelity.is_none() && fidelity != tyreroad::fidelity::Fidelity::Wilke {
+        say!(
+            "model fidelity: {} (the default for this run; [model] fidelity = \"wilke\" for the paper's law)",
+            fidelity.name()
+        );
+    }
     let result = scenario.run(&options);
     bar.finish();
     let ScenarioResult::Rolling(run) = result? else {
