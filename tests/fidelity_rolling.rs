@@ -422,3 +422,34 @@ fn the_calibrated_rolling_road_rolls_as_the_calibrated_scenario_does() -> TestRe
     }
     Ok(())
 }
+
+/// The chip-seal fixture's tyre and load on a synthetic porous asphalt
+/// whose fitted summits stand up to 1.3 mm above every cell of their flat
+/// tops (seed 2006): a cap's estimated table once stopped above its
+/// highest cell, and the run failed before its first step ("a valid cell
+/// within the calibration depth"). Five steps over that cap (x = 198.8
+/// mm, 71 mm off the path's centre line).
+#[test]
+fn a_cap_whose_summit_stands_above_its_cells_is_calibrated_to_its_cells() -> TestResult {
+    let text = include_str!("../fixtures/rolling_tyre_chip_seal.toml")
+        .replace("start = \"65 mm\"", "start = \"195 mm\"")
+        .replace("end = \"235 mm\"", "end = \"203 mm\"")
+        .replace("step = \"1 mm\"", "step = \"2 mm\"")
+        .replace("checkpoint = true", "checkpoint = false")
+        .replace("kind = \"aggregate\"", "kind = \"porous_asphalt\"")
+        .replace("grading = \"6/10\"\n", "");
+    assert!(text.contains("porous_asphalt") && text.contains("195 mm"));
+    let s = Scenario::parse(&text, "porous")?;
+    assert_eq!(s.fidelity()?, tyreroad::fidelity::Fidelity::Calibrated);
+    let ScenarioResult::Rolling(run) = s.run(&ScenarioRunOptions::new("."))? else {
+        return Err("not a rolling result".into());
+    };
+    assert_eq!(run.result.steps.len(), 5);
+    assert_eq!(run.status_counts()[2], 0, "failed steps");
+    let RoadSummary::Texture(t) = &run.road else {
+        return Err("not a texture road".into());
+    };
+    let cal = t.calibration.as_ref().ok_or("no calibration")?;
+    assert_eq!(cal.past_tables, PastTables::default(), "{cal:?}");
+    Ok(())
+}

@@ -128,6 +128,22 @@ pub fn calibrated_set(
     .map_err(FidelityError::Solve)
 }
 
+/// How far (m) `a`'s summit stands above its highest valid cell (0 for a
+/// summit on a cell, or when no cell is valid: `cap_patch` says so).
+fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
+    let highest = a
+        .cells
+        .iter()
+        .filter(|&&c| map.valid()[c])
+        .map(|&c| map.heights()[c])
+        .fold(f64::NEG_INFINITY, f64::max);
+    if highest.is_finite() {
+        (a.summit_height - highest).max(0.0)
+    } else {
+        0.0
+    }
+}
+
 /// The calibrated laws of the road's asperities `indices` (indices into
 /// `road.set`), tabulated as in [`calibrated_set`], in parallel on rayon's
 /// current pool, each cap under `shape` (with how far its asperity is
@@ -182,7 +198,13 @@ pub(crate) fn calibrated_laws(
             // A missing or non-positive lift is no lift: a deeper table,
             // never a shorter one.
             let lift = lifts.get(n).copied().filter(|l| *l > 0.0).unwrap_or(0.0);
-            let depth = (max_approach - (top - z) - lift).max(0.1 * max_approach);
+            // A fitted summit may stand above every cell of a flat or
+            // faceted top: the range must reach the highest cell (and as
+            // far past it as the summit stands above it), or the cap has
+            // no cell to calibrate.
+            let depth = (max_approach - (top - z) - lift)
+                .max(0.1 * max_approach)
+                .max(2.0 * top_cell_offset(map, a));
             let shaped = shape.patch(map, a, i, depth)?;
             let patch = shaped.patch;
             // A cap raised to touch where its shape says is pressed deeper
