@@ -117,6 +117,9 @@ impl TablePlan {
     }
 }
 
+/// Nodes of a [`BulkSag`] grid along its longer side, at most.
+pub const MAX_SAG_NODES: usize = 65;
+
 /// The displacement (m) that far contacts leave under footprint offsets
 /// `(ξ, η)`, on a regular grid over the selection window: at each node the
 /// least, over the given steps, of `Σ F_j / (π E* r_j)` over the step's
@@ -156,13 +159,8 @@ impl BulkSag {
         let (hx, hy) = config.tread.half_extents();
         let m = config.tread.effective_margin(config.margin);
         let (ax, ay) = (hx + m, hy + m);
-        // A quarter of the left-out radius: the far field varies on the
-        // scale of ρ and more.
-        let spacing = 0.25 * rho;
-        let size = [
-            (2.0 * ax / spacing).ceil() as usize + 1,
-            (2.0 * ay / spacing).ceil() as usize + 1,
-        ];
+        let spacing = sag_spacing(rho, [ax, ay]);
+        let size = [sag_nodes(2.0 * ax, spacing), sag_nodes(2.0 * ay, spacing)];
         let origin = [-ax, -ay];
         let rho2 = rho * rho;
         let mut values = vec![f64::INFINITY; size[0] * size[1]];
@@ -216,6 +214,21 @@ impl BulkSag {
     pub fn max(&self) -> f64 {
         self.values.iter().copied().fold(0.0, f64::max)
     }
+}
+
+/// The spacing (m) of a [`BulkSag`] grid over half-extents `half` (m):
+/// a quarter of the left-out radius `rho` (the far field varies on the
+/// scale of ρ and more), but at most [`MAX_SAG_NODES`] nodes a side, so
+/// that a road of tiny dense caps does not make the grid the run's dearest
+/// part.
+pub fn sag_spacing(rho: f64, half: [f64; 2]) -> f64 {
+    (0.25 * rho).max(2.0 * half[0].max(half[1]) / (MAX_SAG_NODES - 1) as f64)
+}
+
+/// Nodes covering `extent` (m) at `spacing` (m), ends included (rounding
+/// does not add one).
+fn sag_nodes(extent: f64, spacing: f64) -> usize {
+    (extent / spacing * (1.0 - 1e-12)).ceil() as usize + 1
 }
 
 /// `Σ F_j / r_j` over the `points` `(position, force)` farther than
@@ -324,6 +337,19 @@ mod tests {
         // Nothing is left out at ρ = 0 but the point itself.
         let all = far_displacement(&points, [0.0, 0.0], 0.0);
         assert!(all > sum);
+    }
+
+    /// A quarter of ρ on the fixtures' roads; never more than 65 nodes a
+    /// side however small ρ gets.
+    #[test]
+    fn the_sag_grid_follows_rho_within_a_bounded_size() {
+        let half = [60e-3, 75e-3];
+        assert_eq!(sag_spacing(20e-3, half), 5e-3);
+        for rho in [1e-3, 1e-4, 1e-6] {
+            let spacing = sag_spacing(rho, half);
+            let nodes = sag_nodes(2.0 * half[1], spacing);
+            assert!(nodes <= MAX_SAG_NODES, "ρ {rho}: {nodes} nodes");
+        }
     }
 
     #[test]
