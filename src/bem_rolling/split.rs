@@ -143,6 +143,9 @@ pub fn asperity_split(
         .map(|r| r.step.value())
         .unwrap_or(1.0);
     let steps = ((hi - lo) / step).round() as usize + 1;
+    // The calibrated laws are those of a run of the whole path (its
+    // approach bound and bulk sag), not of the stretch cut below.
+    let path_config = scenario.rolling_config()?;
     cut_to_stretch(
         &mut scenario,
         Stretch {
@@ -212,7 +215,7 @@ pub fn asperity_split(
             &troad,
             &wilke,
             &map,
-            &config,
+            &path_config,
             &calibrator,
             par,
             // The tables of the run's first round (a run that pressed caps

@@ -96,7 +96,9 @@ pub fn cap_patch(map: &HeightMap, a: &Asperity, max_depth: f64) -> Result<CapPat
 /// highest summit): asperity `i` is tabulated to
 /// `max(max_approach − (top − z_i), max_approach / 10)`, the depth it
 /// reaches at that approach (with a floor so that low asperities still get
-/// a range). Caps are calibrated in parallel on rayon's current pool.
+/// a range), and at least twice the height of its fitted summit above its
+/// highest cell (so that the range holds a cell). Caps are calibrated in
+/// parallel on rayon's current pool.
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] if `map` is not the segmented map or
