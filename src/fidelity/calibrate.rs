@@ -45,9 +45,11 @@ use super::field::{BinnedField, UnitField};
 
 mod along;
 mod cache;
+mod stand_in;
 mod window;
 pub use along::PathNode;
 use cache::{CACHE_VERSION, Fnv};
+pub(crate) use stand_in::stand_in_law;
 use window::KnotSolver;
 
 /// Heights are quantised to this step (m) before hashing: caps equal to
@@ -657,6 +659,11 @@ impl Calibrator {
     /// The material.
     pub fn material(&self) -> &Material {
         &self.material
+    }
+
+    /// The options every table is solved with.
+    pub fn options(&self) -> &CalibrationOptions {
+        &self.options
     }
 
     /// The cache's counts so far.

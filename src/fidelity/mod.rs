@@ -54,7 +54,7 @@ pub use calibrate::{
     CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, CalibrationStats, Calibrator,
     CapPatch, HEIGHT_QUANTUM, PathNode, WarmStart, calibrate, calibrate_with_fields,
 };
-pub use texture::{calibrated_set, cap_patch};
+pub use texture::{CapFallback, calibrated_set, calibrated_set_or_wilke, cap_patch};
 
 use crate::multipoint::{Clusters, Interaction, SolverOptions};
 

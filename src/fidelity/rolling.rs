@@ -33,7 +33,7 @@ use std::time::{Duration, Instant};
 
 use super::compare::APPROACH_MARGIN;
 use super::table_depth::{BulkSag, TablePlan, estimated_lift, exclusion_radius, sagged_lifts};
-use super::texture::calibrated_laws;
+use super::texture::{CapFallback, OnCapFailure, calibrated_laws};
 use super::under_tread::{CalibrateUnder, CapShape, slope_nodes};
 use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError, PathNode};
 use crate::multipoint::AsperitySet;
@@ -61,6 +61,8 @@ pub struct RollingCalibration {
     pub bulk_sag: f64,
     /// Tables solved, and found in the calibrator's caches.
     pub counts: CacheCounts,
+    /// The caps whose calibration failed, each kept on its Wilke law.
+    pub fallbacks: Vec<CapFallback>,
     /// Wall time of the approach bound and the calibration.
     pub time: Duration,
 }
@@ -329,23 +331,38 @@ pub fn calibrate_rolling_road_under(
             }
         }
     }
+    let calibrate = |shape: &CapShape| {
+        run_at(par, || {
+            calibrated_laws(
+                road,
+                map,
+                max_approach,
+                calibrator,
+                (&kept, &lifts),
+                shape,
+                OnCapFailure::WilkeLaw,
+            )
+        })
+    };
+    let mut fallbacks = Vec::new();
     let laws = match under {
         CalibrateUnder::TreadSlope => {
             let nodes = slope_nodes(&config.tread, config.margin);
             let mut by_node = Vec::with_capacity(nodes.len());
             for &xi in &nodes {
-                let shape = cap_shape(wilke, config, &kept, under, xi);
-                by_node.push(run_at(par, || {
-                    calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
-                })?);
+                let laws = calibrate(&cap_shape(wilke, config, &kept, under, xi))?;
+                fallbacks.extend(laws.fallbacks);
+                by_node.push(laws.laws);
             }
+            // A cap that failed at several nodes is one failure.
+            fallbacks.sort_by_key(|f: &CapFallback| f.asperity);
+            fallbacks.dedup_by_key(|f| f.asperity);
             laws_along_path(wilke, config, &kept, &nodes, by_node)?
         }
         _ => {
-            let shape = cap_shape(wilke, config, &kept, under, 0.0);
-            run_at(par, || {
-                calibrated_laws(road, map, max_approach, calibrator, &kept, &lifts, &shape)
-            })?
+            let laws = calibrate(&cap_shape(wilke, config, &kept, under, 0.0))?;
+            fallbacks = laws.fallbacks;
+            laws.laws
         }
     };
     let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
@@ -362,6 +379,7 @@ pub fn calibrate_rolling_road_under(
         max_approach,
         bulk_sag: bulk.as_ref().map_or(0.0, BulkSag::max),
         counts: calibrator.counts(),
+        fallbacks,
         time: clock.elapsed(),
     })
 }

@@ -98,7 +98,9 @@ pub fn cap_patch(map: &HeightMap, a: &Asperity, max_depth: f64) -> Result<CapPat
 /// reaches at that approach (with a floor so that low asperities still get
 /// a range), and at least twice the height of its fitted summit above its
 /// highest cell (so that the range holds a cell). Caps are calibrated in
-/// parallel on rayon's current pool.
+/// parallel on rayon's current pool. Every cap must calibrate: a
+/// comparison of rungs wants the rung or an error
+/// ([`calibrated_set_or_wilke`] lets a cap that fails keep its Wilke law).
 ///
 /// # Errors
 /// [`FidelityError::InvalidInput`] if `map` is not the segmented map or
@@ -109,25 +111,94 @@ pub fn calibrated_set(
     max_approach: f64,
     calibrator: &Calibrator,
 ) -> Result<AsperitySet<CalibratedLaw>, FidelityError> {
+    calibrated_set_on(road, map, max_approach, calibrator, OnCapFailure::Abort).map(|(set, _)| set)
+}
+
+/// [`calibrated_set`], where a cap whose calibration fails keeps its Wilke
+/// law instead ([`CapFallback`], one per such cap, in road order): one bad
+/// cap is that cap's failure, not the run's.
+///
+/// # Errors
+/// As [`calibrated_set`] for the inputs; the first calibration error if
+/// every cap failed, or if the disk cache cannot be written.
+pub fn calibrated_set_or_wilke(
+    road: &TextureRoad,
+    map: &HeightMap,
+    max_approach: f64,
+    calibrator: &Calibrator,
+) -> Result<(AsperitySet<CalibratedLaw>, Vec<CapFallback>), FidelityError> {
+    calibrated_set_on(road, map, max_approach, calibrator, OnCapFailure::WilkeLaw)
+}
+
+fn calibrated_set_on(
+    road: &TextureRoad,
+    map: &HeightMap,
+    max_approach: f64,
+    calibrator: &Calibrator,
+    on_failure: OnCapFailure,
+) -> Result<(AsperitySet<CalibratedLaw>, Vec<CapFallback>), FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
     let laws = calibrated_laws(
         road,
         map,
         max_approach,
         calibrator,
-        &all,
-        &[],
+        (&all, &[]),
         &CapShape::Flat,
-    )?
-    .into_iter()
-    .map(|(law, _)| law)
-    .collect();
-    AsperitySet::new(
+        on_failure,
+    )?;
+    let set = AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),
-        laws,
+        laws.laws.into_iter().map(|(law, _)| law).collect(),
     )
-    .map_err(FidelityError::Solve)
+    .map_err(FidelityError::Solve)?;
+    Ok((set, laws.fallbacks))
+}
+
+/// A cap whose calibration failed and that kept its Wilke law, sampled at
+/// the knots its table would have had (with the Wilke model's rebuilt
+/// pressure as its field, when the rung uses fields).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CapFallback {
+    /// The asperity's index in the texture road (`TextureRoad::set`).
+    pub asperity: usize,
+    /// Its summit `(x, y)` (m) in the height map's frame.
+    pub summit: [f64; 2],
+    /// Why its calibration failed.
+    pub reason: String,
+}
+
+impl std::fmt::Display for CapFallback {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "asperity {} (summit at x = {:.3} mm, y = {:.3} mm): calibration failed ({}); \
+             its Wilke law kept",
+            self.asperity + 1,
+            self.summit[0] * 1e3,
+            self.summit[1] * 1e3,
+            self.reason
+        )
+    }
+}
+
+/// What a cap whose calibration fails gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OnCapFailure {
+    /// The first failure is the whole set's error.
+    Abort,
+    /// The cap keeps its Wilke law ([`CapFallback`]); the set fails only
+    /// if every cap did, or the disk cache could not be written.
+    WilkeLaw,
+}
+
+/// Calibrated laws, each with how far its asperity is lifted, and the caps
+/// that kept their Wilke law.
+#[derive(Debug)]
+pub(crate) struct CalibratedLaws {
+    pub laws: Vec<(CalibratedLaw, f64)>,
+    pub fallbacks: Vec<CapFallback>,
 }
 
 /// How far (m) `a`'s summit stands above its highest valid cell (0 for a
@@ -155,7 +226,8 @@ fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
 /// missing entries are no lift); a
 /// lifted asperity can only be pressed `max_approach − (top − z_i) −
 /// lift_i` deep, so its table stops there (with the same floor) instead of
-/// paying for depths the run cannot reach.
+/// paying for depths the run cannot reach. A cap whose calibration fails
+/// is handled as `on_failure` says.
 ///
 /// # Errors
 /// As [`calibrated_set`]; [`FidelityError::InvalidInput`] for an index out
@@ -165,10 +237,49 @@ pub(crate) fn calibrated_laws(
     map: &HeightMap,
     max_approach: f64,
     calibrator: &Calibrator,
-    indices: &[usize],
-    lifts: &[f64],
+    (indices, lifts): (&[usize], &[f64]),
     shape: &CapShape,
-) -> Result<Vec<(CalibratedLaw, f64)>, FidelityError> {
+    on_failure: OnCapFailure,
+) -> Result<CalibratedLaws, FidelityError> {
+    let stand_in = StandIn {
+        nodes: calibrator.options().nodes,
+        field_cell: calibrator.has_fields().then(|| map.dx().max(map.dy())),
+        on_failure,
+    };
+    calibrated_laws_by(
+        road,
+        map,
+        max_approach,
+        &|_, patch, depth| calibrator.law(patch, depth),
+        (indices, lifts),
+        shape,
+        stand_in,
+    )
+}
+
+/// How a failed cap is stood in for: its Wilke law at `nodes` knots, with
+/// fields on a grid of `field_cell`.
+#[derive(Clone, Copy, Debug)]
+struct StandIn {
+    nodes: usize,
+    field_cell: Option<f64>,
+    on_failure: OnCapFailure,
+}
+
+/// One cap's calibrated law (`law_of` asperity `i`'s patch to a depth) or
+/// the error that stopped it.
+type LawOf<'c> = dyn Fn(usize, &CapPatch, f64) -> Result<CalibratedLaw, FidelityError> + Sync + 'c;
+
+/// [`calibrated_laws`] with each table from `law_of`.
+fn calibrated_laws_by(
+    road: &TextureRoad,
+    map: &HeightMap,
+    max_approach: f64,
+    law_of: &LawOf<'_>,
+    (indices, lifts): (&[usize], &[f64]),
+    shape: &CapShape,
+    stand_in: StandIn,
+) -> Result<CalibratedLaws, FidelityError> {
     if road.segmentation.size() != (map.nx(), map.ny()) {
         return Err(FidelityError::invalid(
             "height map",
@@ -184,7 +295,7 @@ pub(crate) fn calibrated_laws(
         ));
     }
     let top = road.set.top();
-    indices
+    let outcomes = indices
         .par_iter()
         .enumerate()
         .map(|(n, &i)| {
@@ -207,13 +318,176 @@ pub(crate) fn calibrated_laws(
             let depth = (max_approach - (top - z) - lift)
                 .max(0.1 * max_approach)
                 .max(2.0 * top_cell_offset(map, a));
-            let shaped = shape.patch(map, a, i, depth)?;
-            let patch = shaped.patch;
-            // A cap raised to touch where its shape says is pressed deeper
-            // by as much; the top cell may lie below a refined summit, and
-            // the table must reach past it.
-            let depth = (depth + shaped.lift).max(2.0 * patch.summit_offset());
-            Ok((calibrator.law(&patch, depth)?, shaped.lift))
+            let calibrated = shape.patch(map, a, i, depth).and_then(|shaped| {
+                let patch = shaped.patch;
+                // A cap raised to touch where its shape says is pressed
+                // deeper by as much; the top cell may lie below a refined
+                // summit, and the table must reach past it.
+                let deeper = (depth + shaped.lift).max(2.0 * patch.summit_offset());
+                Ok((law_of(i, &patch, deeper)?, shaped.lift))
+            });
+            match calibrated {
+                Ok(law) => Ok(CapOutcome::Calibrated(law)),
+                // The disk is not the cap's: a cache that cannot be
+                // written stops the run as any unwritable output does.
+                Err(e @ FidelityError::Cache { .. }) => Err(e),
+                Err(e) if stand_in.on_failure == OnCapFailure::Abort => Err(e),
+                Err(e) => {
+                    // The Wilke law over the range the table would have had.
+                    let law = super::calibrate::stand_in_law(
+                        &road.set.laws()[i],
+                        depth,
+                        stand_in.nodes,
+                        stand_in.field_cell,
+                    );
+                    Ok(CapOutcome::StoodIn(law, i, e))
+                }
+            }
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    let failed = outcomes
+        .iter()
+        .filter(|o| matches!(o, CapOutcome::StoodIn(..)))
+        .count();
+    let mut laws = Vec::with_capacity(outcomes.len());
+    let mut fallbacks = Vec::with_capacity(failed);
+    for outcome in outcomes {
+        match outcome {
+            CapOutcome::Calibrated(law) => laws.push(law),
+            // Nothing calibrated is no calibrated rung: say why.
+            CapOutcome::StoodIn(_, _, e) if failed == indices.len() => return Err(e),
+            CapOutcome::StoodIn(law, i, e) => {
+                fallbacks.push(CapFallback {
+                    asperity: i,
+                    summit: road.set.positions()[i],
+                    reason: e.to_string(),
+                });
+                laws.push((law, 0.0));
+            }
+        }
+    }
+    Ok(CalibratedLaws { laws, fallbacks })
+}
+
+/// One cap's law: calibrated (with its lift), or its Wilke law standing in
+/// for a calibration that failed (asperity index, the failure).
+enum CapOutcome {
+    Calibrated((CalibratedLaw, f64)),
+    StoodIn(CalibratedLaw, usize, FidelityError),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_law::{ContactLaw, Material};
+    use crate::fidelity::CalibrationOptions;
+    use crate::texture_road::{TextureRoadOptions, texture_road};
+
+    /// Three paraboloid caps (R = 4 mm) at x = 4, 12, 20 mm on a 24 × 8 mm
+    /// map of 0.1 mm cells, summits 1.0, 0.95 and 0.9 mm high.
+    fn three_caps() -> (TextureRoad, HeightMap, Calibrator) {
+        let summits = [(4e-3, 1.0e-3), (12e-3, 0.95e-3), (20e-3, 0.9e-3)];
+        let map = HeightMap::from_fn(241, 81, 1e-4, 1e-4, move |x, y| {
+            summits
+                .iter()
+                .map(|&(cx, top)| top - ((x - cx).powi(2) + (y - 4e-3).powi(2)) / 8e-3)
+                .fold(0.0, f64::max)
+        })
+        .expect("map");
+        let material = Material::new(6.54e6, 0.5).expect("material");
+        let road =
+            texture_road(&map, material, &TextureRoadOptions::new(0.1e-3, 1e-6)).expect("road");
+        assert_eq!(road.len(), 3);
+        let calibrator = Calibrator::new(material, CalibrationOptions::default()).with_fields();
+        (road, map, calibrator)
+    }
+
+    fn laws_failing(
+        (road, map, calibrator): &(TextureRoad, HeightMap, Calibrator),
+        fails: impl Fn(usize) -> Option<FidelityError> + Sync,
+        on_failure: OnCapFailure,
+    ) -> Result<CalibratedLaws, FidelityError> {
+        let all: Vec<usize> = (0..road.len()).collect();
+        let stand_in = StandIn {
+            nodes: calibrator.options().nodes,
+            field_cell: Some(map.dx()),
+            on_failure,
+        };
+        calibrated_laws_by(
+            road,
+            map,
+            0.4e-3,
+            &|i, patch, depth| match fails(i) {
+                Some(e) => Err(e),
+                None => calibrator.law(patch, depth),
+            },
+            (&all, &[]),
+            &CapShape::Flat,
+            stand_in,
+        )
+    }
+
+    fn not_converged() -> FidelityError {
+        FidelityError::invalid("BEM solve", "injected", "a converged solve")
+    }
+
+    #[test]
+    fn a_cap_whose_calibration_fails_keeps_its_wilke_law_and_the_others_are_calibrated() {
+        let setup = three_caps();
+        let road = &setup.0;
+        let good = laws_failing(&setup, |_| None, OnCapFailure::WilkeLaw).expect("calibrated");
+        assert!(good.fallbacks.is_empty());
+        let laws = laws_failing(
+            &setup,
+            |i| (i == 1).then(not_converged),
+            OnCapFailure::WilkeLaw,
+        )
+        .expect("one cap stood in");
+        assert_eq!(laws.fallbacks.len(), 1);
+        let f = &laws.fallbacks[0];
+        assert_eq!((f.asperity, f.summit), (1, road.set.positions()[1]));
+        assert!(f.reason.contains("injected"), "{}", f.reason);
+        assert!(f.to_string().contains("asperity 2"), "{f}");
+        let wilke = &road.set.laws()[1];
+        // The table's range: 0.4 mm less the cap's 0.05 mm below the top.
+        let range = 0.35e-3;
+        for k in 1..=20 {
+            let d = range * k as f64 / 20.0;
+            for i in [0, 2] {
+                assert_eq!(laws.laws[i].0.force(d), good.laws[i].0.force(d));
+            }
+            let (got, want) = (laws.laws[1].0.force(d), wilke.force(d));
+            assert!(
+                (got - want).abs() < 5e-3 * wilke.force(range),
+                "δ = {d}: {got} vs the Wilke law's {want}"
+            );
+            assert!(laws.laws[1].0.unit_field(d).is_some(), "a field at δ = {d}");
+        }
+    }
+
+    #[test]
+    fn a_failed_cap_aborts_a_strict_set_and_every_cap_failing_is_an_error() {
+        let setup = three_caps();
+        let one = laws_failing(
+            &setup,
+            |i| (i == 0).then(not_converged),
+            OnCapFailure::Abort,
+        );
+        assert!(one.is_err_and(|e| e.to_string().contains("injected")));
+        let all = laws_failing(&setup, |_| Some(not_converged()), OnCapFailure::WilkeLaw);
+        assert!(all.is_err_and(|e| e.to_string().contains("injected")));
+        // A disk cache that cannot be written is the run's failure.
+        let cache = |_| {
+            Some(FidelityError::Cache {
+                path: "/nowhere".into(),
+                source: std::io::Error::other("read-only"),
+            })
+        };
+        let disk = laws_failing(
+            &setup,
+            |i| (i == 2).then(|| cache(i)).flatten(),
+            OnCapFailure::WilkeLaw,
+        );
+        assert!(disk.is_err_and(|e| matches!(e, FidelityError::Cache { .. })));
+    }
 }

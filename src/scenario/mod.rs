@@ -105,7 +105,7 @@ pub enum ScenarioResult {
     /// `[static]` loads on an `[[asperity]]` list.
     Static(StaticResult),
     /// `[static]` loads on a `[texture]`, with the two-scale rebuild.
-    Texture(TextureResult),
+    Texture(Box<TextureResult>),
     /// A `[rolling]` run.
     Rolling(Box<RollingRun>),
     /// A `[static.history]` run with a `[material.viscoelastic]` tread.
@@ -254,7 +254,7 @@ impl Scenario {
         }
         if self.texture.is_some() {
             return texture::run_texture_static(self, &options.base_dir)
-                .map(ScenarioResult::Texture);
+                .map(|r| ScenarioResult::Texture(Box::new(r)));
         }
         if self
             .static_case

@@ -17,8 +17,8 @@ use crate::fidelity::coupling::{FieldCouplingOptions, solve_field_coupled};
 use crate::fidelity::rolling::{PastTables, calibrate_rolling_road_under};
 use crate::fidelity::table_depth::TablePlan;
 use crate::fidelity::{
-    CalibratedLaw, CalibrationOptions, Calibrator, Coupling, FidelityError, LawSource,
-    calibrated_set,
+    CalibratedLaw, CalibrationOptions, Calibrator, CapFallback, Coupling, FidelityError, LawSource,
+    calibrated_set_or_wilke,
 };
 use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
@@ -43,17 +43,19 @@ pub struct TextureSummary {
     pub calibration: Option<CalibrationSummary>,
 }
 
-/// What calibrating a rolling road took (`crate::fidelity::rolling`).
+/// What calibrating a texture's caps took: a static run's every cap, a
+/// rolling run's caps its path can select (`crate::fidelity::rolling`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CalibrationSummary {
-    /// Asperities the path can select, each given a calibrated law.
+    /// Asperities given a calibrated law (or, failing that, their Wilke
+    /// law: `fallbacks`).
     pub asperities: usize,
     /// Tables solved by the BEM (the rest were equal caps' tables or read
     /// from the disk cache).
     pub tables: usize,
     /// Tables read from the disk cache.
     pub from_disk: usize,
-    /// Largest approach the tables cover (m).
+    /// Largest approach the tables cover (m; from the highest summit).
     pub max_approach: f64,
     /// The largest bulk sag taken off the tables' depths (m; 0 when every
     /// table reaches the bound, `crate::fidelity::table_depth`).
@@ -67,8 +69,11 @@ pub struct CalibrationSummary {
     /// Contacts the run pressed past their tables (filled once a whole
     /// elastic run is rolled; not counted, so zero, for a part of a
     /// distributed run and for a viscoelastic run, whose forces are not
-    /// its laws' at one depth).
+    /// its laws' at one depth, and for a static run).
     pub past_tables: PastTables,
+    /// The caps whose calibration failed: each kept its Wilke law and the
+    /// run went on (of the last round, when a run was repeated).
+    pub fallbacks: Vec<CapFallback>,
 }
 
 impl CalibrationSummary {
@@ -153,7 +158,7 @@ pub(crate) fn run_texture_static(
     let map = Arc::new(texture.height_map(base_dir)?);
     let material = scenario.material()?;
     let road = scenario_road(&map, material, texture)?;
-    let summary = TextureSummary::new(&map, &road);
+    let mut summary = TextureSummary::new(&map, &road);
     let shapes = road.local_shapes(&map)?;
     let positions = road.set.positions().to_vec();
     let ids: Vec<u32> = (1..=road.len() as u32).collect();
@@ -184,7 +189,21 @@ pub(crate) fn run_texture_static(
             if rung.coupling == Coupling::Fields {
                 calibrator = calibrator.with_fields();
             }
-            let set = calibrated_set(&road, &map, APPROACH_MARGIN * approach, &calibrator)?;
+            let clock = std::time::Instant::now();
+            let max_approach = APPROACH_MARGIN * approach;
+            let (set, fallbacks) = calibrated_set_or_wilke(&road, &map, max_approach, &calibrator)?;
+            let counts = calibrator.counts();
+            summary.calibration = Some(CalibrationSummary {
+                asperities: road.len(),
+                tables: counts.solved,
+                from_disk: counts.disk_hits,
+                max_approach,
+                bulk_sag: 0.0,
+                deepened: 0,
+                time: clock.elapsed(),
+                past_tables: PastTables::default(),
+                fallbacks,
+            });
             let problem =
                 Problem::from_set(set, material).map_err(as_problem("[texture] asperities"))?;
             match rung.coupling {
@@ -396,6 +415,7 @@ pub(crate) fn calibrated_texture_road_set_with(
         deepened: plan.deepen.len(),
         time: calibrated.time,
         past_tables: PastTables::default(),
+        fallbacks: calibrated.fallbacks,
     });
     Ok((calibrated.set, summary, radii))
 }

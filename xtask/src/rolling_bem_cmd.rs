@@ -172,6 +172,9 @@ fn print_report(name: &str, run: &BemRollingRun) {
         if let Some(warning) = cal.past_tables.warning() {
             say!("warning: {warning}");
         }
+        for fallback in &cal.fallbacks {
+            say!("warning: {fallback}");
+        }
     }
     if let Some(f) = &run.field_rung {
         let st = &f.stats;

@@ -219,7 +219,13 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
         run.sample_rate,
         out.display()
     );
-    Ok(Fallbacks::from_rolling(&signals.not_converged))
+    let mut fallbacks = Fallbacks::from_rolling(&signals.not_converged);
+    if let RoadSummary::Texture(t) = &run.road
+        && let Some(cal) = &t.calibration
+    {
+        fallbacks.add_calibration(cal);
+    }
+    Ok(fallbacks)
 }
 
 #[derive(Serialize)]

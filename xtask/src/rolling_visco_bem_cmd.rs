@@ -95,6 +95,9 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
             cal.time.as_secs_f64(),
             run.multipoint_time.saturating_sub(cal.time).as_secs_f64()
         );
+        for fallback in &cal.fallbacks {
+            say!("warning: {fallback}");
+        }
     }
     say!(
         "mean approach: multipoint {:.5} mm, BEM {:.5} mm",

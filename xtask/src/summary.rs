@@ -6,7 +6,7 @@ use anyhow::Result;
 use tyreroad::multipoint::Convergence;
 use tyreroad::rolling::StepStatus;
 use tyreroad::scenario::output::steps_stream::NotConverged;
-use tyreroad::scenario::{StaticResult, TextureResult};
+use tyreroad::scenario::{CalibrationSummary, StaticResult, TextureResult};
 
 /// Items listed one per line; beyond this many the rest are counted (each is
 /// in the outputs' status columns).
@@ -47,6 +47,9 @@ impl Fallbacks {
     /// field is a lower-fidelity fallback.
     pub fn from_texture(r: &TextureResult) -> Self {
         let mut f = Self::from_static(&r.statics);
+        if let Some(cal) = &r.texture.calibration {
+            f.add_calibration(cal);
+        }
         let ids = r.ids();
         for (run, per_load) in r.statics.runs.iter().zip(&r.loads) {
             for (k, status) in per_load.two_scale.fallbacks() {
@@ -79,6 +82,13 @@ impl Fallbacks {
             ));
         }
         f
+    }
+
+    /// Each cap of a calibrated road whose calibration failed and that
+    /// kept its Wilke law.
+    pub fn add_calibration(&mut self, cal: &CalibrationSummary) {
+        self.items
+            .extend(cal.fallbacks.iter().map(ToString::to_string));
     }
 
     /// How many items fell back.
@@ -142,6 +152,33 @@ mod tests {
         assert_eq!(lines.len(), 1 + LISTED + 1);
         assert!(lines[1].contains("load 50 N: not solved"));
         assert!(lines.last().is_some_and(|l| l.contains("11 more")));
+    }
+
+    #[test]
+    fn a_cap_that_kept_its_wilke_law_is_listed_with_why() {
+        let cal = CalibrationSummary {
+            asperities: 12,
+            tables: 11,
+            from_disk: 0,
+            max_approach: 3e-3,
+            bulk_sag: 0.0,
+            deepened: 0,
+            time: std::time::Duration::ZERO,
+            past_tables: Default::default(),
+            fallbacks: vec![tyreroad::fidelity::CapFallback {
+                asperity: 6,
+                summit: [12.5e-3, 3.25e-3],
+                reason: "calibration BEM: not converged".into(),
+            }],
+        };
+        let mut f = Fallbacks::default();
+        f.add_calibration(&cal);
+        assert_eq!(f.len(), 1);
+        assert!(f.lines()[1].contains(
+            "asperity 7 (summit at x = 12.500 mm, y = 3.250 mm): calibration failed \
+             (calibration BEM: not converged); its Wilke law kept"
+        ));
+        assert!(f.finish(true).is_err());
     }
 
     #[test]

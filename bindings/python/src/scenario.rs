@@ -273,7 +273,7 @@ fn run_scenario<'py>(
     }
     match result.or_raise()? {
         ScenarioResult::Static(r) => static_dict(py, &r),
-        ScenarioResult::Texture(r) => texture_dict(py, r),
+        ScenarioResult::Texture(r) => texture_dict(py, *r),
         ScenarioResult::Rolling(r) => rolling_dict(py, &r),
         ScenarioResult::History(r) => history_dict(py, &r),
     }
