@@ -210,3 +210,13 @@ def test_texture_scenario_pressure_maps_carry_the_loads():
         # Conservation: the rebuilt local fields carry the solved forces.
         assert m["pressure"].sum() * dx * dy == pytest.approx(load, rel=1e-9)
         np.testing.assert_allclose(r["forces"][list(r["loads"]).index(load)].sum(), load, rtol=1e-10)
+    # The Wilke rung calibrates nothing, so nothing fell back.
+    assert r["calibration_fallbacks"] == []
+
+
+def test_a_calibrated_texture_scenario_lists_no_fallback_when_every_cap_calibrates():
+    text = (ROOT / "fixtures" / "texture_block_static.toml").read_text()
+    text = text.replace("[material]", '[model]\nfidelity = "calibrated"\n\n[material]', 1)
+    r = tr.run_scenario(text, base_dir=ROOT / "fixtures")
+    assert r["kind"] == "texture" and r["calibration_fallbacks"] == []
+    np.testing.assert_allclose(r["total_force"], r["loads"], rtol=1e-9)

@@ -158,7 +158,7 @@ fn print_report(name: &str, run: &BemRollingRun) {
         && let Some(cal) = &t.calibration
     {
         say!(
-            "calibrated laws: {} of the road's {} asperities, {} tables solved ({} read from disk), to {:.3} mm approach, {:.1} s (in the multipoint time)",
+            "calibrated laws: {} of the road's {} asperities, {} tables solved ({} read from disk), approach bound {:.3} mm, {:.1} s (in the multipoint time)",
             cal.asperities,
             t.asperities,
             cal.tables,

@@ -76,6 +76,10 @@ struct Row {
     fallbacks: usize,
     static_seconds: f64,
     steps: String,
+    /// The rolling run's rung, and with calibrated laws the caps
+    /// calibrated, those that kept their Wilke law, and the calibration's
+    /// seconds.
+    rung: String,
     rolling_seconds: f64,
 }
 
@@ -126,8 +130,27 @@ pub fn run(only: Option<&str>) -> Result<()> {
             };
         let static_seconds = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let steps = match Scenario::parse(&rolling_scenario(kind, seed), kind)?.run(&base) {
+        let rolling = Scenario::parse(&rolling_scenario(kind, seed), kind)?;
+        let mut rung = rolling.fidelity()?.to_string();
+        let steps = match rolling.run(&base) {
             Ok(ScenarioResult::Rolling(run)) => {
+                if let tyreroad::scenario::RoadSummary::Texture(t) = &run.road
+                    && let Some(cal) = &t.calibration
+                {
+                    rung += &format!(
+                        ": {} caps, {} on Wilke, {:.1} s",
+                        cal.asperities,
+                        cal.fallbacks.len(),
+                        cal.time.as_secs_f64()
+                    );
+                    if cal.deepened > 0 {
+                        rung += &format!(", run repeated with {} caps deepened", cal.deepened);
+                    }
+                    if cal.past_tables.contacts > 0 {
+                        rung +=
+                            &format!(", {} contacts past their tables", cal.past_tables.contacts);
+                    }
+                }
                 let [converged, stagnated, failed] = run.result.status_counts();
                 if failed > 0 {
                     failures += 1;
@@ -165,23 +188,25 @@ pub fn run(only: Option<&str>) -> Result<()> {
             fallbacks,
             static_seconds,
             steps,
+            rung,
             rolling_seconds: t.elapsed().as_secs_f64(),
         });
     }
     say!(
         "| road kind | asperities (static) | loads converged | two-scale fallbacks | static s | \
-         rolling steps converged | rolling s |"
+         rolling steps converged | rolling rung (calibration) | rolling s |"
     );
-    say!("|---|---:|---:|---:|---:|---:|---:|");
+    say!("|---|---:|---:|---:|---:|---:|---|---:|");
     for r in &rows {
         say!(
-            "| {} | {} | {} | {} | {:.1} | {} | {:.1} |",
+            "| {} | {} | {} | {} | {:.1} | {} | {} | {:.1} |",
             r.kind,
             r.asperities,
             r.loads,
             r.fallbacks,
             r.static_seconds,
             r.steps,
+            r.rung,
             r.rolling_seconds
         );
     }

@@ -9,8 +9,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use tyreroad::scenario::{
-    HistoryResult, Progress, RollingRun, RunOptions, Scenario, ScenarioResult, StaticResult,
-    TextureResult,
+    HistoryResult, Progress, RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult,
+    StaticResult, TextureResult, TextureSummary,
 };
 
 use crate::arrays::{to_numpy1, to_numpy2};
@@ -164,7 +164,17 @@ fn texture_dict<'py>(py: Python<'py>, r: TextureResult) -> PyResult<Bound<'py, P
         maps.append(map)?;
     }
     out.set_item("pressure_maps", maps)?;
+    out.set_item("calibration_fallbacks", calibration_fallbacks(&r.texture))?;
     Ok(out)
+}
+
+/// Each cap of a calibrated road that kept its Wilke law, with why (empty
+/// on the Wilke rung or when every cap calibrated).
+fn calibration_fallbacks(t: &TextureSummary) -> Vec<String> {
+    t.calibration
+        .iter()
+        .flat_map(|c| c.fallbacks.iter().map(ToString::to_string))
+        .collect()
 }
 
 fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyDict>> {
@@ -181,6 +191,11 @@ fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyD
     let sensors: Vec<f64> = (0..ns).flat_map(|k| res.sensor(k)).collect();
     out.set_item("sensor_names", names)?;
     out.set_item("sensor_forces", to_numpy2(py, sensors, ns, nt)?)?;
+    let fallbacks = match &r.road {
+        RoadSummary::Texture(t) => calibration_fallbacks(t),
+        _ => Vec::new(),
+    };
+    out.set_item("calibration_fallbacks", fallbacks)?;
     out.set_item(
         "status",
         res.steps
