@@ -150,6 +150,23 @@ fn a_step_that_overflows_or_allocates_without_bound_is_refused() {
     }
 }
 
+/// A path too short for its spectra used to roll (and calibrate) every
+/// step and only then fail in the spectrum (found by a probe of bad inputs).
+#[test]
+fn a_path_too_short_for_its_spectra_is_refused_before_it_rolls() {
+    for end in ["40 mm", "41 mm", "42 mm"] {
+        refusal(
+            SMALL_ROLLING,
+            "end = \"79 mm\"",
+            &format!("end = \"{end}\""),
+            &["[rolling] end", "at least 4 steps"],
+        );
+    }
+    // Four steps (start, start + 3 step) roll.
+    let four = SMALL_ROLLING.replacen("end = \"79 mm\"", "end = \"43 mm\"", 1);
+    assert!(Scenario::parse(&four, "four").is_ok());
+}
+
 #[test]
 fn a_synthetic_road_too_large_to_hold_is_refused() {
     refusal(

@@ -248,10 +248,23 @@ fn coarse_run(
     if bound.is_finite() && bound > 0.0 {
         Ok((bound, run))
     } else {
+        let failed = run
+            .steps
+            .iter()
+            .filter(|s| s.status == StepStatus::Failed)
+            .count();
         Err(FidelityError::invalid(
             "rolling approach bound",
-            bound,
-            "a converged Wilke step with a positive approach on the path",
+            format!(
+                "{failed} of the {} Wilke steps from x = {} m to {} m that bound the \
+                 calibrated tables failed, the others carried no load",
+                run.steps.len(),
+                config.start,
+                config.end
+            ),
+            "a converged Wilke step with a positive approach on the path: the tables \
+             cannot be sized (with [model] fidelity = \"wilke\" the run records each \
+             failed step)",
         ))
     }
 }
@@ -355,8 +368,8 @@ pub fn calibrate_rolling_road_under(
                 by_node.push(laws.laws);
             }
             // A cap that failed at several nodes is one failure.
-            fallbacks.sort_by_key(|f: &CapFallback| f.asperity);
-            fallbacks.dedup_by_key(|f| f.asperity);
+            fallbacks.sort_by_key(|f: &CapFallback| f.id);
+            fallbacks.dedup_by_key(|f| f.id);
             laws_along_path(wilke, config, &kept, &nodes, by_node)?
         }
         _ => {
@@ -365,6 +378,11 @@ pub fn calibrate_rolling_road_under(
             laws.laws
         }
     };
+    // The outputs' ids and frame: the index among the kept asperities, the
+    // rolling frame.
+    for f in &mut fallbacks {
+        f.summit = wilke.positions()[kept[f.id]];
+    }
     let positions = kept.iter().map(|&i| wilke.positions()[i]).collect();
     let heights = kept
         .iter()

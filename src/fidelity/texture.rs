@@ -153,7 +153,13 @@ fn calibrated_set_on(
         laws.laws.into_iter().map(|(law, _)| law).collect(),
     )
     .map_err(FidelityError::Solve)?;
-    Ok((set, laws.fallbacks))
+    // A static run's indenters are 1-based.
+    let fallbacks = laws
+        .fallbacks
+        .into_iter()
+        .map(|f| CapFallback { id: f.id + 1, ..f })
+        .collect();
+    Ok((set, fallbacks))
 }
 
 /// A cap whose calibration failed and that kept its Wilke law, sampled at
@@ -161,9 +167,13 @@ fn calibrated_set_on(
 /// pressure as its field, when the rung uses fields).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CapFallback {
-    /// The asperity's index in the texture road (`TextureRoad::set`).
-    pub asperity: usize,
-    /// Its summit `(x, y)` (m) in the height map's frame.
+    /// The asperity's id in the run's outputs: a static texture run's
+    /// indenter (1-based, road order), a rolling run's `road.npz` id (the
+    /// 0-based index among the asperities its path can select).
+    pub id: usize,
+    /// Its summit `(x, y)` (m) in the frame of the run's outputs: the
+    /// height map's for a static run, the rolling frame (`y` from the
+    /// path's mid-width) for a rolling one.
     pub summit: [f64; 2],
     /// Why its calibration failed.
     pub reason: String,
@@ -175,7 +185,7 @@ impl std::fmt::Display for CapFallback {
             f,
             "asperity {} (summit at x = {:.3} mm, y = {:.3} mm): calibration failed ({}); \
              its Wilke law kept",
-            self.asperity + 1,
+            self.id,
             self.summit[0] * 1e3,
             self.summit[1] * 1e3,
             self.reason
@@ -194,7 +204,8 @@ pub(crate) enum OnCapFailure {
 }
 
 /// Calibrated laws, each with how far its asperity is lifted, and the caps
-/// that kept their Wilke law.
+/// that kept their Wilke law (`id`: the position in the indices the laws
+/// were asked for; `summit` in the height map's frame).
 #[derive(Debug)]
 pub(crate) struct CalibratedLaws {
     pub laws: Vec<(CalibratedLaw, f64)>,
@@ -340,7 +351,7 @@ fn calibrated_laws_by(
                         stand_in.nodes,
                         stand_in.field_cell,
                     );
-                    Ok(CapOutcome::StoodIn(law, i, e))
+                    Ok(CapOutcome::StoodIn(law, (n, i), e))
                 }
             }
         })
@@ -356,9 +367,9 @@ fn calibrated_laws_by(
             CapOutcome::Calibrated(law) => laws.push(law),
             // Nothing calibrated is no calibrated rung: say why.
             CapOutcome::StoodIn(_, _, e) if failed == indices.len() => return Err(e),
-            CapOutcome::StoodIn(law, i, e) => {
+            CapOutcome::StoodIn(law, (n, i), e) => {
                 fallbacks.push(CapFallback {
-                    asperity: i,
+                    id: n,
                     summit: road.set.positions()[i],
                     reason: e.to_string(),
                 });
@@ -370,10 +381,11 @@ fn calibrated_laws_by(
 }
 
 /// One cap's law: calibrated (with its lift), or its Wilke law standing in
-/// for a calibration that failed (asperity index, the failure).
+/// for a calibration that failed (its position among the indices and its
+/// index in the road, the failure).
 enum CapOutcome {
     Calibrated((CalibratedLaw, f64)),
-    StoodIn(CalibratedLaw, usize, FidelityError),
+    StoodIn(CalibratedLaw, (usize, usize), FidelityError),
 }
 
 #[cfg(test)]
@@ -445,9 +457,10 @@ mod tests {
         .expect("one cap stood in");
         assert_eq!(laws.fallbacks.len(), 1);
         let f = &laws.fallbacks[0];
-        assert_eq!((f.asperity, f.summit), (1, road.set.positions()[1]));
+        // Asked for every asperity in road order: its id is its index.
+        assert_eq!((f.id, f.summit), (1, road.set.positions()[1]));
         assert!(f.reason.contains("injected"), "{}", f.reason);
-        assert!(f.to_string().contains("asperity 2"), "{f}");
+        assert!(f.to_string().starts_with("asperity 1 (summit at"), "{f}");
         let wilke = &road.set.laws()[1];
         // The table's range: 0.4 mm less the cap's 0.05 mm below the top.
         let range = 0.35e-3;

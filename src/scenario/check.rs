@@ -13,6 +13,9 @@ use super::spec::{Scenario, ShapeSpec, SynthSpec};
 use crate::fidelity::Fidelity;
 use crate::fidelity::under_tread::CalibrateUnder;
 
+/// Fewest steps a rolling path may have: a spectrum needs 4 samples.
+const MIN_ROLLING_STEPS: usize = 4;
+
 /// Checks that the sections name one road, then every value of `scenario`
 /// (see the module doc).
 pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
@@ -280,6 +283,26 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
             "[rolling] end",
             format!("{:e} m", r.end.value()),
             "≥ start",
+        ));
+    }
+    // The spectra a run ends with need four samples: refused before any
+    // step is solved, not after.
+    // As `RollingConfig::steps` counts them.
+    let path_steps = ((r.end.value() - r.start.value()) / r.step.value() + 1e-9).floor() + 1.0;
+    if path_steps < MIN_ROLLING_STEPS as f64 {
+        return Err(bad(
+            "[rolling] end",
+            format!(
+                "{:e} m ({} step(s) of {:e} m from {:e} m)",
+                r.end.value(),
+                path_steps,
+                r.step.value(),
+                r.start.value()
+            ),
+            &format!(
+                "a path of at least {MIN_ROLLING_STEPS} steps from start to end (the \
+                 one-third-octave spectra need {MIN_ROLLING_STEPS} samples)"
+            ),
         ));
     }
     // The rolling crate's own bound, checked here first so the error names the key.

@@ -57,6 +57,10 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         asperities: road.len(),
         segmented: road.segmented(),
         calibration: None,
+        // Sq only: the heights are read tile by tile, never whole.
+        warnings: super::texture::roughness_warning(road.rms())
+            .into_iter()
+            .collect(),
     }
 }
 

@@ -38,9 +38,13 @@ pub struct TextureSummary {
     pub asperities: usize,
     /// Asperities the segmentation found.
     pub segmented: usize,
-    /// The calibration of a rolling run on calibrated laws (`None` on the
-    /// Wilke laws).
+    /// The calibration of a run on calibrated laws (`None` on the Wilke
+    /// laws).
     pub calibration: Option<CalibrationSummary>,
+    /// What looks wrong with the heights, for a run's report: cells far
+    /// outside the rest (sentinel values, spikes) or a roughness no road
+    /// has (heights in another unit than metres). The run goes on.
+    pub warnings: Vec<String>,
 }
 
 /// What calibrating a texture's caps took: a static run's every cap, a
@@ -107,8 +111,69 @@ impl TextureSummary {
             asperities: road.len(),
             segmented: road.segmentation.asperities().len(),
             calibration: None,
+            warnings: height_warnings(map),
         }
     }
+}
+
+/// A height farther than this many times the span of the middle 98 % of
+/// the heights (1st to 99th percentile) beyond that span is no road
+/// surface: a road's deepest pore or highest chipping lies within the
+/// span, or just beyond it.
+const OUTLIER_SPANS: f64 = 10.0;
+
+/// Sq above this (m) is no road texture (theirs are tenths of a millimetre
+/// to a few millimetres): heights in µm or mm read as metres.
+const LARGEST_ROAD_SQ: f64 = 0.05;
+
+/// [`TextureSummary::warnings`] of `map`.
+pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
+    let mut z: Vec<f64> = map
+        .heights()
+        .iter()
+        .zip(map.valid())
+        .filter(|(_, ok)| **ok)
+        .map(|(h, _)| *h)
+        .collect();
+    let mut warnings = Vec::new();
+    if z.len() >= 100 {
+        let n = z.len();
+        let mut percentile = |q: usize| {
+            *z.select_nth_unstable_by(q * (n - 1) / 100, f64::total_cmp)
+                .1
+        };
+        let (low, high) = (percentile(1), percentile(99));
+        let span = high - low;
+        let (lo, hi) = (low - OUTLIER_SPANS * span, high + OUTLIER_SPANS * span);
+        let outside: Vec<f64> = z.iter().copied().filter(|h| *h < lo || *h > hi).collect();
+        if span > 0.0 && !outside.is_empty() {
+            let beyond = |h: f64| (low - h).max(h - high);
+            let worst = outside
+                .iter()
+                .copied()
+                .fold(high, |w, h| if beyond(h) > beyond(w) { h } else { w });
+            warnings.push(format!(
+                "{} height(s) lie more than {OUTLIER_SPANS} times the span of the others \
+                 ({:.3} mm, 1st to 99th percentile) outside it, the farthest at {worst:e} m: \
+                 sentinel values or spikes? give missing points as NaN (docs/texture.md)",
+                outside.len(),
+                span * 1e3
+            ));
+        }
+    }
+    warnings.extend(map.rms().and_then(roughness_warning));
+    warnings
+}
+
+/// A warning when `sq` (m) is no road texture's roughness.
+pub(crate) fn roughness_warning(sq: f64) -> Option<String> {
+    (sq > LARGEST_ROAD_SQ).then(|| {
+        format!(
+            "Sq {:.3} mm is no road texture's (a few millimetres at most): are the heights \
+             in metres?",
+            sq * 1e3
+        )
+    })
 }
 
 /// One load of a texture run: the two-scale rebuild of its contacts.
@@ -403,8 +468,17 @@ pub(crate) fn calibrated_texture_road_set_with(
     let radii = road.summit_radii();
     let set = centred_on_mid_width(road.set.clone(), &map)?;
     let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
-    let calibrated =
-        calibrate_rolling_road_under(&road, &wilke, &map, config, calibrator, par, plan)?;
+    let calibrated = calibrate_rolling_road_under(
+        &road, &wilke, &map, config, calibrator, par, plan,
+    )
+    .map_err(|e| match e {
+        // The Wilke run that bounds the tables met a step the road does
+        // not reach: the path misses the road, as a Wilke run says.
+        FidelityError::Rolling(tyreroad_rolling::RollingError::NoSupport { position }) => {
+            super::rolling::off_road(wilke.positions(), false, config.lateral, position)
+        }
+        other => other.into(),
+    })?;
     let radii = calibrated.kept.iter().map(|&i| radii[i]).collect();
     summary.calibration = Some(CalibrationSummary {
         asperities: calibrated.kept.len(),
@@ -418,4 +492,93 @@ pub(crate) fn calibrated_texture_road_set_with(
         fallbacks: calibrated.fallbacks,
     });
     Ok((calibrated.set, summary, radii))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sine texture of 0.5 mm amplitude on 0.1 mm cells, some cells
+    /// replaced by `cells` (index, height), one missing.
+    fn texture(cells: &[(usize, f64)]) -> HeightMap {
+        let mut z: Vec<f64> = (0..100 * 100)
+            .map(|k| 0.5e-3 * ((k % 100) as f64 * 0.3).sin() * ((k / 100) as f64 * 0.2).cos())
+            .collect();
+        z[17] = f64::NAN;
+        for &(k, h) in cells {
+            z[k] = h;
+        }
+        HeightMap::from_nan_heights(100, 100, 1e-4, 1e-4, z).expect("a map")
+    }
+
+    #[test]
+    fn sentinel_heights_and_a_roughness_in_another_unit_are_warned_of() {
+        assert!(height_warnings(&texture(&[])).is_empty());
+        // A 3 mm bump on a 0.5 mm texture is a road's; 9999 m is not.
+        assert!(height_warnings(&texture(&[(500, 3e-3)])).is_empty());
+        let w = height_warnings(&texture(&[(500, 9999.0), (900, -9999.5)]));
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].starts_with("2 height(s)") && w[0].contains("-9.9995e3 m"),
+            "{w:?}"
+        );
+        assert!(w[1].contains("are the heights in metres"), "{w:?}");
+        // Micrometres read as metres: every height 1e6 times too large.
+        let scaled = texture(&[]);
+        let um: Vec<f64> = scaled.heights().iter().map(|h| h * 1e6).collect();
+        let w =
+            height_warnings(&HeightMap::from_nan_heights(100, 100, 1e-4, 1e-4, um).expect("a map"));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].starts_with("Sq "), "{w:?}");
+        // A flat map has no span to measure against: nothing said.
+        let flat = HeightMap::new(10, 10, 1e-4, 1e-4, vec![0.0; 100]).expect("a map");
+        assert!(height_warnings(&flat).is_empty());
+    }
+
+    /// The synthetic road kinds and the fixtures' texture files are roads:
+    /// none is warned of (pores, grooves and joints lie within the span).
+    #[test]
+    fn no_road_the_project_makes_or_ships_is_warned_of() {
+        let kinds = [
+            "kind = \"aggregate\"\ngrading = \"4/6\"\n",
+            "kind = \"self_affine\"\nrms = \"0.4 mm\"\nhurst = 0.7\nlambda_long = \"20 mm\"\n\
+             lambda_short = \"0.5 mm\"\n",
+            "kind = \"transverse_tining\"\n",
+            "kind = \"longitudinal_tining\"\n",
+            "kind = \"brushed_concrete\"\n",
+            "kind = \"exposed_aggregate\"\n",
+            "kind = \"porous_asphalt\"\n",
+            "kind = \"worn_chip_seal\"\n",
+            "kind = \"pave\"\n",
+        ];
+        let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+        let textures = kinds
+            .iter()
+            .map(|k| {
+                format!("[texture.synth]\n{k}nx = 400\nny = 300\nspacing = \"0.1 mm\"\nseed = 7\n")
+            })
+            .chain(["sine.asc", "spheres.x3p"].map(|f| format!("file = \"texture/{f}\"\n")));
+        let mut checked = 0;
+        for texture in textures {
+            checked += 1;
+            let text = format!(
+                "name = \"t\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                 [static]\nloads = [\"50 N\"]\n[texture]\nmin_prominence = \"0.2 mm\"\n\
+                 min_area = \"2 mm2\"\n{texture}"
+            );
+            let scenario = Scenario::parse(&text, "kind").expect("a valid scenario");
+            let map = scenario
+                .texture
+                .as_ref()
+                .expect("[texture]")
+                .height_map(&fixtures)
+                .expect("a map");
+            assert!(
+                height_warnings(&map).is_empty(),
+                "{texture}: {:?}",
+                height_warnings(&map)
+            );
+        }
+        assert_eq!(checked, 11);
+    }
 }

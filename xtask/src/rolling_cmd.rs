@@ -138,15 +138,20 @@ fn stream_records(run: &RollingRun, set: &mut OutputSet) -> Result<StepSignals> 
 
 fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallbacks> {
     match run.road {
-        RoadSummary::Texture(t) => say!(
-            "texture road {:.3} m × {:.3} m at {:.3} mm: Sq {:.3} mm, {} asperities ({} segmented)",
-            t.extent.0,
-            t.extent.1,
-            t.spacing.0 * 1e3,
-            t.rms * 1e3,
-            t.asperities,
-            t.segmented
-        ),
+        RoadSummary::Texture(t) => {
+            say!(
+                "texture road {:.3} m × {:.3} m at {}: Sq {:.3} mm, {} asperities ({} segmented)",
+                t.extent.0,
+                t.extent.1,
+                spacing_text(t.spacing),
+                t.rms * 1e3,
+                t.asperities,
+                t.segmented
+            );
+            for warning in &t.warnings {
+                say!("warning: {warning}");
+            }
+        }
         RoadSummary::Synthetic { count } => say!("synthetic road: {count} spherical summits"),
         RoadSummary::Asperities { .. } => {}
     }
@@ -436,6 +441,15 @@ fn time_chart(
         return Ok(());
     }
     line_chart(set, name, title, x_label, y_label, series)
+}
+
+/// A grid's spacing for a report: one figure when square, both when not.
+fn spacing_text((dx, dy): (f64, f64)) -> String {
+    if dx == dy {
+        format!("{:.3} mm", dx * 1e3)
+    } else {
+        format!("{:.3} × {:.3} mm", dx * 1e3, dy * 1e3)
+    }
 }
 
 #[cfg(test)]

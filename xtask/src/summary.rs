@@ -85,10 +85,12 @@ impl Fallbacks {
     }
 
     /// Each cap of a calibrated road whose calibration failed and that
-    /// kept its Wilke law.
+    /// kept its Wilke law, and the contacts pressed past their tables
+    /// (their laws extrapolated, not solved).
     pub fn add_calibration(&mut self, cal: &CalibrationSummary) {
         self.items
             .extend(cal.fallbacks.iter().map(ToString::to_string));
+        self.items.extend(cal.past_tables.warning());
     }
 
     /// How many items fell back.
@@ -166,7 +168,7 @@ mod tests {
             time: std::time::Duration::ZERO,
             past_tables: Default::default(),
             fallbacks: vec![tyreroad::fidelity::CapFallback {
-                asperity: 6,
+                id: 7,
                 summit: [12.5e-3, 3.25e-3],
                 reason: "calibration BEM: not converged".into(),
             }],
@@ -174,6 +176,19 @@ mod tests {
         let mut f = Fallbacks::default();
         f.add_calibration(&cal);
         assert_eq!(f.len(), 1);
+        let past = CalibrationSummary {
+            past_tables: tyreroad::fidelity::rolling::PastTables {
+                steps: 3,
+                contacts: 4,
+                worst_ratio: 1.36,
+            },
+            fallbacks: Vec::new(),
+            ..cal.clone()
+        };
+        let mut g = Fallbacks::default();
+        g.add_calibration(&past);
+        assert_eq!(g.len(), 1);
+        assert!(g.lines()[1].contains("pressed past their calibration tables"));
         assert!(f.lines()[1].contains(
             "asperity 7 (summit at x = 12.500 mm, y = 3.250 mm): calibration failed \
              (calibration BEM: not converged); its Wilke law kept"

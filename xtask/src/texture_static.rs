@@ -70,6 +70,9 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
         t.segmented,
         t.segmented - t.asperities
     );
+    for warning in &t.warnings {
+        say!("warning: {warning}");
+    }
     let ids = r.ids();
     if ids.len() <= 40 {
         print_table(&r.statics.rows);

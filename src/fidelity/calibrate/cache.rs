@@ -4,7 +4,9 @@
 //! fields).
 //!
 //! - A table without fields: `calib-<key>.csv`, one line `δ, F, A` per
-//!   knot, the border flag in the header (the format of cache version 2).
+//!   knot, the border flag and the key in the header, and a last line
+//!   `fnv1a=<hex>`, the FNV-1a of every byte before it (since cache
+//!   version 4: a damaged or edited knot is refused, not read as a law).
 //! - A table with fields: `calib-<key>.fields`, little-endian binary
 //!   (bin records are too many for text):
 //!
@@ -19,7 +21,9 @@
 //! is exact too), so a table read back is the table written. A file that
 //! cannot be read back whole — missing, truncated, another magic or key,
 //! a count past the file's end, a checksum that does not match, a value
-//! out of range or out of order — is treated as absent: the table is
+//! out of range or out of order (a depth not increasing from 0, a force or
+//! area negative or decreasing: a table keeps them non-decreasing) — is
+//! treated as absent: the table is
 //! solved again and the file rewritten. Never a panic, never a table from
 //! part of a file. Files are written beside and renamed, so a reader never
 //! sees half a file.
@@ -31,8 +35,9 @@ use super::{CalibratedTable, FidelityError};
 
 /// Hashed into every cache key: tables written by an earlier calibration
 /// (before the windows and warm starts, version 1 unhashed; before fields
-/// were cached, version 2) are not read back as if solved the current way.
-pub(super) const CACHE_VERSION: u64 = 3;
+/// were cached, version 2; CSV tables without key and checksum, version 3)
+/// are not read back as if solved the current way.
+pub(super) const CACHE_VERSION: u64 = 4;
 
 /// The first bytes of a table-with-fields file.
 const MAGIC: &[u8; 8] = b"TYRCALF1";
@@ -79,7 +84,7 @@ pub(super) fn write_table(file: &Path, key: u64, t: &CalibratedTable) -> Result<
     }
     let bytes = match t.field() {
         Some(field) => encode(t, field, key),
-        None => csv_text(t).into_bytes(),
+        None => csv_text(t, key).into_bytes(),
     };
     let partial = file.with_extension("partial");
     std::fs::write(&partial, bytes).map_err(io)?;
@@ -92,24 +97,47 @@ pub(super) fn read_table(file: &Path, key: u64, fields: bool) -> Option<Calibrat
     if fields {
         decode(&std::fs::read(file).ok()?, key)
     } else {
-        read_csv(&std::fs::read_to_string(file).ok()?)
+        read_csv(&std::fs::read_to_string(file).ok()?, key)
     }
 }
 
-fn csv_text(t: &CalibratedTable) -> String {
+/// The trailer of a CSV table: its checksum.
+const CSV_SUM: &str = "fnv1a=";
+
+fn csv_text(t: &CalibratedTable, key: u64) -> String {
     let mut text = format!(
-        "depth_m,force_n,area_m2,reached_border={}\n",
+        "depth_m,force_n,area_m2,reached_border={},key={key:016x}\n",
         t.reached_border
     );
     for (d, f, a) in t.knots() {
         text.push_str(&format!("{d:e},{f:e},{a:e}\n"));
     }
+    let mut h = Fnv::new();
+    h.bytes(text.as_bytes());
+    text.push_str(&format!("{CSV_SUM}{:016x}\n", h.0));
     text
 }
 
-fn read_csv(text: &str) -> Option<CalibratedTable> {
-    let mut lines = text.lines();
-    let reached_border = lines.next()?.ends_with("reached_border=true");
+fn read_csv(text: &str, key: u64) -> Option<CalibratedTable> {
+    let body = text.strip_suffix('\n')?;
+    let (body, sum) = body.rsplit_once('\n')?;
+    let body = &text[..body.len() + 1];
+    let mut h = Fnv::new();
+    h.bytes(body.as_bytes());
+    if sum.strip_prefix(CSV_SUM)? != format!("{:016x}", h.0) {
+        return None;
+    }
+    let mut lines = body.lines();
+    let header = lines.next()?;
+    let (flags, written_key) = header.rsplit_once(",key=")?;
+    if u64::from_str_radix(written_key, 16).ok()? != key {
+        return None;
+    }
+    let reached_border = match flags.rsplit_once("reached_border=")?.1 {
+        "true" => true,
+        "false" => false,
+        _ => return None,
+    };
     let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
     for line in lines {
         let mut it = line.split(',').map(|s| s.parse::<f64>());
@@ -118,7 +146,7 @@ fn read_csv(text: &str) -> Option<CalibratedTable> {
         else {
             return None;
         };
-        if !knot_ok(&d, x, y, z) {
+        if !knot_ok((&d, &f, &a), x, y, z) {
             return None;
         }
         d.push(x);
@@ -128,9 +156,16 @@ fn read_csv(text: &str) -> Option<CalibratedTable> {
     (d.len() >= 2).then(|| CalibratedTable::from_knots(d, f, a, reached_border))
 }
 
-/// A knot `(x, y, z)` that may follow the depths `d`: finite, deeper.
-fn knot_ok(d: &[f64], x: f64, y: f64, z: f64) -> bool {
-    x.is_finite() && y.is_finite() && z.is_finite() && d.last().is_none_or(|&l| x > l)
+/// A knot `(x, y, z)` that may follow the knots `(d, f, a)`: finite, the
+/// first at depth 0, deeper than the last, force and area non-negative and
+/// not below the last (what [`CalibratedTable::from_knots`] keeps).
+fn knot_ok((d, f, a): (&[f64], &[f64], &[f64]), x: f64, y: f64, z: f64) -> bool {
+    let finite = x.is_finite() && y.is_finite() && z.is_finite();
+    let after = match (d.last(), f.last(), a.last()) {
+        (Some(&l), Some(&fl), Some(&al)) => x > l && y >= fl && z >= al,
+        _ => x == 0.0,
+    };
+    finite && after && y >= 0.0 && z >= 0.0
 }
 
 fn encode(t: &CalibratedTable, field: &BinnedField, key: u64) -> Vec<u8> {
@@ -216,7 +251,7 @@ fn decode(bytes: &[u8], key: u64) -> Option<CalibratedTable> {
     let (mut d, mut f, mut a) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..n {
         let (x, y, z) = (r.f64()?, r.f64()?, r.f64()?);
-        if !knot_ok(&d, x, y, z) {
+        if !knot_ok((&d, &f, &a), x, y, z) {
             return None;
         }
         d.push(x);
@@ -362,6 +397,78 @@ mod tests {
             assert!(same_table(law.table(), reference.table()), "{what}");
             assert!(decode(&std::fs::read(&file).unwrap(), key).is_some());
         }
+    }
+
+    #[test]
+    fn a_damaged_or_edited_csv_table_is_solved_again_never_read_as_a_law() {
+        let dir = tempfile::tempdir().unwrap();
+        let reference = calibrator(dir.path(), false).law(&cap(), DEPTH).unwrap();
+        let files: Vec<PathBuf> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "csv"))
+            .collect();
+        assert_eq!(files.len(), 1, "{files:?}");
+        let file = &files[0];
+        let good = std::fs::read_to_string(file).unwrap();
+        let key = u64::from_str_radix(
+            good.lines().next().unwrap().rsplit_once("key=").unwrap().1,
+            16,
+        )
+        .unwrap();
+        assert!(read_csv(&good, key).is_some());
+        assert!(read_csv(&good, key ^ 1).is_none(), "another table's key");
+        // Every truncation (at a line's end too) and every changed digit.
+        for n in 0..good.len() {
+            assert!(
+                read_csv(&good[..n], key).is_none(),
+                "truncated to {n} bytes"
+            );
+        }
+        for (at, c) in good.char_indices().filter(|(_, c)| c.is_ascii_digit()) {
+            let mut bad = good.clone();
+            let other = if c == '1' { "2" } else { "1" };
+            bad.replace_range(at..at + 1, other);
+            assert!(read_csv(&bad, key).is_none(), "digit at {at} changed");
+        }
+        // An edit with its checksum made again: a force made negative or
+        // decreasing, a table that does not start at depth 0.
+        let resealed = |body: String| {
+            let mut h = Fnv::new();
+            h.bytes(body.as_bytes());
+            format!("{body}{CSV_SUM}{:016x}\n", h.0)
+        };
+        let lines: Vec<&str> = good.lines().collect();
+        let knots = &lines[1..lines.len() - 1];
+        let edited = |k: usize, f: &dyn Fn(f64, f64, f64) -> (f64, f64, f64)| {
+            let mut body = format!("{}\n", lines[0]);
+            for (i, line) in knots.iter().enumerate() {
+                let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+                let (d, fo, a) = if i == k {
+                    f(v[0], v[1], v[2])
+                } else {
+                    (v[0], v[1], v[2])
+                };
+                body.push_str(&format!("{d:e},{fo:e},{a:e}\n"));
+            }
+            resealed(body)
+        };
+        assert!(read_csv(&edited(0, &|d, f, a| (d, f, a)), key).is_some());
+        let last = knots.len() - 1;
+        for (what, bad) in [
+            ("negative force", edited(last, &|d, f, a| (d, -f, a))),
+            ("decreasing force", edited(last, &|d, _, a| (d, 0.0, a))),
+            ("decreasing area", edited(last, &|d, f, _| (d, f, 0.0))),
+            ("first depth not 0", edited(0, &|_, f, a| (1e-9, f, a))),
+        ] {
+            assert!(read_csv(&bad, key).is_none(), "{what}");
+        }
+        // Through the calibrator: solved again, the reference table.
+        std::fs::write(file, edited(last, &|d, f, a| (d, -f, a))).unwrap();
+        let c = calibrator(dir.path(), false);
+        let law = c.law(&cap(), DEPTH).unwrap();
+        assert_eq!((c.counts().solved, c.counts().disk_hits), (1, 0));
+        assert!(same_table(law.table(), reference.table()));
     }
 
     #[test]
