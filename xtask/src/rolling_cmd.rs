@@ -140,9 +140,9 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
     match run.road {
         RoadSummary::Texture(t) => {
             say!(
-                "texture road {:.3} m × {:.3} m at {}: Sq {:.3} mm, {} asperities ({} segmented)",
-                t.extent.0,
-                t.extent.1,
+                "texture road {:.1} mm × {:.1} mm at {}: Sq {:.3} mm, {} asperities ({} segmented)",
+                t.extent.0 * 1e3,
+                t.extent.1 * 1e3,
                 spacing_text(t.spacing),
                 t.rms * 1e3,
                 t.asperities,
