@@ -117,6 +117,36 @@ pub enum ScenarioError {
 }
 
 impl ScenarioError {
+    /// A step with no asperity under the footprint, said in the scenario's
+    /// terms: the path (keys) misses the road whose summits are `positions`
+    /// (a part's window of it when `window`).
+    pub(crate) fn off_road(
+        positions: &[[f64; 2]],
+        window: bool,
+        lateral: f64,
+        position: f64,
+    ) -> Self {
+        let span = |axis: usize| {
+            positions
+                .iter()
+                .map(|p| p[axis])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                })
+        };
+        let ((x0, x1), (y0, y1)) = (span(0), span(1));
+        Self::Invalid(format!(
+            "[rolling] start/end/lateral: no asperity under the footprint at x = {position} m, \
+             lateral {lateral} m; the {} span x ∈ [{x0:.4}, {x1:.4}] m, \
+             y ∈ [{y0:.4}, {y1:.4}] m: put the path on the road",
+            if window {
+                "asperities of this part's window of the road"
+            } else {
+                "road's asperities"
+            }
+        ))
+    }
+
     pub(crate) fn io(
         action: &'static str,
         path: impl Into<PathBuf>,

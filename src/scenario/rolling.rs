@@ -348,7 +348,7 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     };
     let off_road = |e: rolling::RollingError| match e {
         rolling::RollingError::NoSupport { position } => {
-            off_road(road.positions(), road.is_window(), config.lateral, position)
+            ScenarioError::off_road(road.positions(), road.is_window(), config.lateral, position)
         }
         other => other.into(),
     };
@@ -388,36 +388,6 @@ const WINDOW_PATH: f64 = 1.0;
 
 /// Where a part's pieces go as they are rolled, in path order.
 pub(crate) type PieceSink<'s> = dyn FnMut(rolling::RollingResult) -> Result<(), ScenarioError> + 's;
-
-/// A step with no asperity under the footprint, said in the scenario's
-/// terms: the path (keys) misses the road whose summits are `positions`
-/// (a part's window of it when `window`).
-pub(super) fn off_road(
-    positions: &[[f64; 2]],
-    window: bool,
-    lateral: f64,
-    position: f64,
-) -> ScenarioError {
-    let span = |axis: usize| {
-        positions
-            .iter()
-            .map(|p| p[axis])
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            })
-    };
-    let ((x0, x1), (y0, y1)) = (span(0), span(1));
-    ScenarioError::Invalid(format!(
-        "[rolling] start/end/lateral: no asperity under the footprint at x = {position} m, \
-         lateral {lateral} m; the {} span x ∈ [{x0:.4}, {x1:.4}] m, \
-         y ∈ [{y0:.4}, {y1:.4}] m: put the path on the road",
-        if window {
-            "asperities of this part's window of the road"
-        } else {
-            "road's asperities"
-        }
-    ))
-}
 
 /// Appends a piece to the part being gathered, with room for the whole
 /// part (`steps`) made at the first piece (no doubling copies).

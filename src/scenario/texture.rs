@@ -475,7 +475,7 @@ pub(crate) fn calibrated_texture_road_set_with(
         // The Wilke run that bounds the tables met a step the road does
         // not reach: the path misses the road, as a Wilke run says.
         FidelityError::Rolling(tyreroad_rolling::RollingError::NoSupport { position }) => {
-            super::rolling::off_road(wilke.positions(), false, config.lateral, position)
+            ScenarioError::off_road(wilke.positions(), false, config.lateral, position)
         }
         other => other.into(),
     })?;
