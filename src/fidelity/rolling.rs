@@ -33,7 +33,7 @@ use std::time::{Duration, Instant};
 
 use super::compare::APPROACH_MARGIN;
 use super::table_depth::{BulkSag, TablePlan, estimated_lift, exclusion_radius, sagged_lifts};
-use super::texture::{CapFallback, OnCapFailure, calibrated_laws};
+use super::texture::{CapFallback, LawOf, OnCapFailure, StandIn, calibrated_laws_by};
 use super::under_tread::{CalibrateUnder, CapShape, slope_nodes};
 use super::{CacheCounts, CalibratedLaw, Calibrator, FidelityError, PathNode};
 use crate::multipoint::AsperitySet;
@@ -315,6 +315,19 @@ pub fn calibrate_rolling_road_under(
     par: Par,
     plan: &TablePlan,
 ) -> Result<RollingCalibration, FidelityError> {
+    let law_of: &LawOf<'_> = &|_, patch, depth| calibrator.law(patch, depth);
+    calibrate_rolling_road_by((road, wilke, map), config, (calibrator, law_of), par, plan)
+}
+
+/// [`calibrate_rolling_road_under`] with each cap's table from `law_of`
+/// (the calibrator sizes the stand-ins and counts its caches).
+fn calibrate_rolling_road_by(
+    (road, wilke, map): (&TextureRoad, &rolling::Road<TextureLaw>, &HeightMap),
+    config: &RollingConfig,
+    (calibrator, law_of): (&Calibrator, &LawOf<'_>),
+    par: Par,
+    plan: &TablePlan,
+) -> Result<RollingCalibration, FidelityError> {
     plan.validate()?;
     let clock = Instant::now();
     let under = plan.under;
@@ -344,16 +357,17 @@ pub fn calibrate_rolling_road_under(
             }
         }
     }
+    let stand_in = StandIn::of(calibrator, map, OnCapFailure::WilkeLaw);
     let calibrate = |shape: &CapShape| {
         run_at(par, || {
-            calibrated_laws(
+            calibrated_laws_by(
                 road,
                 map,
                 max_approach,
-                calibrator,
+                law_of,
                 (&kept, &lifts),
                 shape,
-                OnCapFailure::WilkeLaw,
+                stand_in,
             )
         })
     };
@@ -488,5 +502,79 @@ fn cap_shape(
                 headroom: (0..n).map(|i| top - wilke.heights()[i]).collect(),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rolling::{RollingControl, Tread};
+    use crate::texture_road::{TextureRoadOptions, texture_road};
+
+    /// Three paraboloid caps (R = 5 mm) at x = 6, 18, 30 mm on a 36 × 12 mm
+    /// map; a block selects the first two.
+    #[test]
+    fn a_rolling_fallback_is_named_by_its_road_npz_id_in_the_rolling_frame() {
+        let summits = [(6e-3, 1.5e-3), (18e-3, 1.45e-3), (30e-3, 1.5e-3)];
+        let map = HeightMap::from_fn(361, 121, 1e-4, 1e-4, move |x, y| {
+            summits
+                .iter()
+                .map(|&(cx, top)| top - ((x - cx).powi(2) + (y - 6e-3).powi(2)) / 1e-2)
+                .fold(0.0, f64::max)
+        })
+        .expect("map");
+        let material = Material::new(6.54e6, 0.5).expect("material");
+        let road =
+            texture_road(&map, material, &TextureRoadOptions::new(0.1e-3, 1e-6)).expect("road");
+        let wilke = rolling::Road::new(road.set.clone().translated([0.0, -6e-3]).expect("set"))
+            .with_summit_radii(road.summit_radii())
+            .expect("radii");
+        let block = Tread::Block {
+            length: 14e-3,
+            width: 10e-3,
+        };
+        let config =
+            RollingConfig::new(block, [11e-3, 13e-3, 1e-3], 10.0, RollingControl::Load(3.0));
+        let calibrator = Calibrator::new(material, super::super::CalibrationOptions::default());
+        // The cap at x = 18 mm fails, whatever its place in the road.
+        let failing = road
+            .set
+            .positions()
+            .iter()
+            .position(|p| (p[0] - 18e-3).abs() < 1e-4)
+            .expect("the middle cap");
+        let law_of: &LawOf<'_> = &|i, patch, depth| {
+            if i == failing {
+                Err(FidelityError::invalid(
+                    "BEM solve",
+                    "injected",
+                    "a converged solve",
+                ))
+            } else {
+                calibrator.law(patch, depth)
+            }
+        };
+        let calibrated = calibrate_rolling_road_by(
+            (&road, &wilke, &map),
+            &config,
+            (&calibrator, law_of),
+            Par::Seq,
+            &TablePlan::bound(CalibrateUnder::Flat),
+        )
+        .expect("one cap stood in");
+        assert_eq!(calibrated.kept.len(), 2);
+        assert_eq!(calibrated.fallbacks.len(), 1);
+        let f = &calibrated.fallbacks[0];
+        // Its id among the kept asperities (road.npz), its summit as the
+        // rolling set has it (y from the path's mid-width).
+        let id = calibrated
+            .kept
+            .iter()
+            .position(|&i| i == failing)
+            .expect("kept");
+        assert_eq!(f.id, id);
+        assert_eq!(f.summit, calibrated.set.positions()[id]);
+        assert!((f.summit[1]).abs() < 1e-3, "{:?}", f.summit);
+        assert!(f.reason.contains("injected"), "{}", f.reason);
     }
 }

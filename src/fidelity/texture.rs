@@ -252,11 +252,7 @@ pub(crate) fn calibrated_laws(
     shape: &CapShape,
     on_failure: OnCapFailure,
 ) -> Result<CalibratedLaws, FidelityError> {
-    let stand_in = StandIn {
-        nodes: calibrator.options().nodes,
-        field_cell: calibrator.has_fields().then(|| map.dx().max(map.dy())),
-        on_failure,
-    };
+    let stand_in = StandIn::of(calibrator, map, on_failure);
     calibrated_laws_by(
         road,
         map,
@@ -271,18 +267,31 @@ pub(crate) fn calibrated_laws(
 /// How a failed cap is stood in for: its Wilke law at `nodes` knots, with
 /// fields on a grid of `field_cell`.
 #[derive(Clone, Copy, Debug)]
-struct StandIn {
+pub(super) struct StandIn {
     nodes: usize,
     field_cell: Option<f64>,
     on_failure: OnCapFailure,
 }
 
+impl StandIn {
+    /// Stand-ins as `calibrator`'s tables would be (its knots, fields on
+    /// `map`'s grid when it keeps fields).
+    pub(super) fn of(calibrator: &Calibrator, map: &HeightMap, on_failure: OnCapFailure) -> Self {
+        Self {
+            nodes: calibrator.options().nodes,
+            field_cell: calibrator.has_fields().then(|| map.dx().max(map.dy())),
+            on_failure,
+        }
+    }
+}
+
 /// One cap's calibrated law (`law_of` asperity `i`'s patch to a depth) or
 /// the error that stopped it.
-type LawOf<'c> = dyn Fn(usize, &CapPatch, f64) -> Result<CalibratedLaw, FidelityError> + Sync + 'c;
+pub(super) type LawOf<'c> =
+    dyn Fn(usize, &CapPatch, f64) -> Result<CalibratedLaw, FidelityError> + Sync + 'c;
 
 /// [`calibrated_laws`] with each table from `law_of`.
-fn calibrated_laws_by(
+pub(super) fn calibrated_laws_by(
     road: &TextureRoad,
     map: &HeightMap,
     max_approach: f64,
