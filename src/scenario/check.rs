@@ -287,8 +287,7 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
     }
     // The spectra a run ends with need four samples: refused before any
     // step is solved, not after.
-    // As `RollingConfig::steps` counts them.
-    let path_steps = ((r.end.value() - r.start.value()) / r.step.value() + 1e-9).floor() + 1.0;
+    let path_steps = tyreroad_rolling::path_steps(r.start.value(), r.end.value(), r.step.value());
     if path_steps < MIN_ROLLING_STEPS as f64 {
         return Err(bad(
             "[rolling] end",

@@ -81,6 +81,16 @@ pub struct CalibrationSummary {
 }
 
 impl CalibrationSummary {
+    /// What a run's user is warned of: the contacts pressed past their
+    /// tables, then each cap that kept its Wilke law (empty when neither).
+    pub fn warnings(&self) -> Vec<String> {
+        self.past_tables
+            .warning()
+            .into_iter()
+            .chain(self.fallbacks.iter().map(ToString::to_string))
+            .collect()
+    }
+
     /// How deep the tables reached, for a run's report: the bulk sag taken
     /// off them and the caps tabulated again to the bound (`None` when the
     /// tables reach the bound).

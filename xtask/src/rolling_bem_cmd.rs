@@ -169,11 +169,8 @@ fn print_report(name: &str, run: &BemRollingRun) {
         if let Some(note) = cal.depth_note() {
             say!("{note}");
         }
-        if let Some(warning) = cal.past_tables.warning() {
+        for warning in cal.warnings() {
             say!("warning: {warning}");
-        }
-        for fallback in &cal.fallbacks {
-            say!("warning: {fallback}");
         }
     }
     if let Some(f) = &run.field_rung {

@@ -95,8 +95,8 @@ fn print_comparison(name: &str, run: &ViscoBemRollingRun) {
             cal.time.as_secs_f64(),
             run.multipoint_time.saturating_sub(cal.time).as_secs_f64()
         );
-        for fallback in &cal.fallbacks {
-            say!("warning: {fallback}");
+        for warning in cal.warnings() {
+            say!("warning: {warning}");
         }
     }
     say!(

@@ -88,9 +88,7 @@ impl Fallbacks {
     /// kept its Wilke law, and the contacts pressed past their tables
     /// (their laws extrapolated, not solved).
     pub fn add_calibration(&mut self, cal: &CalibrationSummary) {
-        self.items
-            .extend(cal.fallbacks.iter().map(ToString::to_string));
-        self.items.extend(cal.past_tables.warning());
+        self.items.extend(cal.warnings());
     }
 
     /// How many items fell back.

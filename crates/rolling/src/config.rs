@@ -148,9 +148,9 @@ impl RollingConfig {
         Ok(())
     }
 
-    /// Number of steps on the path.
+    /// Number of steps on the path ([`path_steps`], at least 1).
     pub fn steps(&self) -> usize {
-        ((self.end - self.start) / self.step + 1e-9).floor() as usize + 1
+        path_steps(self.start, self.end, self.step).max(1.0) as usize
     }
 
     /// Footprint centre `x_k = start + k Δx` of step `k` (m).
@@ -172,4 +172,12 @@ pub struct CheckpointOptions {
     /// Each chunk rewrites its file at most this often (and always at its
     /// end, on an error or on an interruption). `Duration::ZERO`: every step.
     pub interval: Duration,
+}
+
+/// Steps on a path from `start` to `end` by `step` (m):
+/// `⌊(end − start)/step + 10⁻⁹⌋ + 1`, the last step within rounding of
+/// `end`. A float, so that a scenario check can compare a path too long to
+/// count, or one that ends before it starts, before any config is built.
+pub fn path_steps(start: f64, end: f64, step: f64) -> f64 {
+    ((end - start) / step + 1e-9).floor() + 1.0
 }

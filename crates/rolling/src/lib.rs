@@ -132,7 +132,7 @@ mod synth_window;
 mod tread;
 
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
-pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl};
+pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl, path_steps};
 pub use coupling::{CouplingState, FixedPointDamping, Spread, StepCoupling};
 pub use placement::Placement;
 pub use record::{
