@@ -128,11 +128,16 @@ fn ridges_calibrated_under_the_tyre_roll_closer_to_the_bem_than_under_a_flat_pun
         unreachable!()
     };
     // Measured (approach point / fields, north sensor point / fields):
-    // flat 0.52 / 5.74 %, 9.09 / 0.24 %; tread 3.05 / 2.33 %, 9.10 / 0.48 %.
+    // flat 1.39 / 4.11 %, 9.03 / 0.14 %; tread 5.40 / 0.21 %, 9.05 / 0.03 %.
     // The field rung, whose fields place each ridge's load, comes to the
     // BEM; the point rung (summits' kernel, discs) moves the other way:
-    // its flat-punch approach was errors cancelling.
-    assert!(tread.1 < 0.03, "tread fields approach {}", tread.1);
+    // its flat-punch approach was errors cancelling. (Before the summit
+    // fit was checked against the grid, 2026-11-28, each ridge's summit
+    // was a paraboloid vertex 3.5 µm above its highest cell and 0.17 mm
+    // into the ridge, where the ridge is lower still: tread 3.05 / 2.33 %,
+    // flat 0.52 / 5.74 %. The field rung gained from the true summit, the
+    // point rung had gained from the phantom's extra height.)
+    assert!(tread.1 < 0.01, "tread fields approach {}", tread.1);
     assert!(
         flat.1 > tread.1 + 0.02,
         "flat {}, tread {}",
@@ -145,7 +150,7 @@ fn ridges_calibrated_under_the_tyre_roll_closer_to_the_bem_than_under_a_flat_pun
         flat.3,
         tread.3
     );
-    assert!(tread.0 < 0.04, "tread point approach {}", tread.0);
+    assert!(tread.0 < 0.07, "tread point approach {}", tread.0);
     Ok(())
 }
 

@@ -177,3 +177,48 @@ fn prominence_and_area_thresholds_merge_small_bumps() {
         .count();
     assert_eq!(labelled, 120 * 120);
 }
+
+/// A ball's top (R = 3 mm, its summit between grid points) on 0.25 mm
+/// cells, cut `cliff` cells beside its summit point by a pore 3 mm deep
+/// (`None`: no pore), as a porous asphalt's chippings are.
+fn ball_beside_a_pore(cliff: Option<usize>) -> HeightMap {
+    let (r, h) = (3e-3, 0.25e-3);
+    let (cx, cy) = (20.3 * h, 20.2 * h);
+    HeightMap::from_fn(41, 41, h, h, |x, y| {
+        if cliff.is_some_and(|c| x > (20 + c) as f64 * h - 1e-9) {
+            return -3e-3;
+        }
+        let d2 = (x - cx).powi(2) + (y - cy).powi(2);
+        ((r * r - d2).max(0.0).sqrt() - r).max(-1e-3)
+    })
+    .unwrap()
+}
+
+/// A least-squares paraboloid through a chipping's top and the pore wall
+/// beside it put summits up to 1.5 mm above every cell of a synthetic
+/// porous asphalt, and the road's approach was measured from them
+/// (docs/texture.md, "Summits"). The fit is refused there: the summit is
+/// its highest grid point. Without the pore the same ball keeps its fit.
+#[test]
+fn a_summit_beside_a_pore_does_not_stand_above_its_cells() {
+    let smooth = ball_beside_a_pore(None);
+    let seg = segment(&smooth, &opts()).unwrap();
+    let a = &seg.asperities()[0];
+    let fit = a.fit.expect("the smooth ball keeps its paraboloid");
+    assert!((fit.radii.0 / 3e-3 - 1.0).abs() < 0.05, "{:?}", fit.radii);
+    let z0 = smooth.get(a.summit_cell.0, a.summit_cell.1).unwrap();
+    // The vertex within a cell of its grid point: at most h²/(4R) above it
+    // for the ball itself (5.2 µm).
+    assert!(a.summit_height - z0 < 6e-6, "{}", a.summit_height - z0);
+    for cliff in [1, 2] {
+        let map = ball_beside_a_pore(Some(cliff));
+        let seg = segment(&map, &opts()).unwrap();
+        let a = &seg.asperities()[0];
+        let z0 = map.get(a.summit_cell.0, a.summit_cell.1).unwrap();
+        assert!(
+            a.summit_height - z0 < 6e-6,
+            "pore {cliff} cells away: summit {} mm above its grid point",
+            (a.summit_height - z0) * 1e3
+        );
+    }
+}
