@@ -276,6 +276,7 @@ fn texture_roads(
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("set"))
         .with_summit_radii(troad.summit_radii())
+        .and_then(|r| r.with_top(troad.top))
         .expect("radii");
     (troad, wilke, map)
 }
@@ -288,7 +289,6 @@ fn calibrated_with_fields(
     base: &std::path::Path,
     config: &tyreroad::rolling::RollingConfig,
 ) -> tyreroad::rolling::Road<CalibratedLaw> {
-    use tyreroad::rolling::Road;
     let (troad, wilke, map) = texture_roads(scenario, base);
     let material = scenario.material().expect("material");
     let calibrator = Calibrator::new(material, CalibrationOptions::default()).with_fields();
@@ -303,7 +303,7 @@ fn calibrated_with_fields(
     .expect("calibration");
     let radii = troad.summit_radii();
     let radii = cal.kept.iter().map(|&i| radii[i]).collect();
-    Road::new(cal.set).with_summit_radii(radii).expect("radii")
+    tyreroad::fidelity::rolling::calibrated_rolling_road(cal.set, radii, troad.top).expect("radii")
 }
 
 /// A rolling road's calibration (no fields, a new calibrator each time, so

@@ -119,6 +119,12 @@ pub struct TextureRoad {
     pub segmentation: Segmentation,
     /// For each kept asperity, its index in `segmentation.asperities()`.
     pub asperity_index: Vec<usize>,
+    /// The map's highest valid point (m): the plane a rolling road on this
+    /// texture measures its approach from
+    /// ([`crate::rolling::Road::with_top`]), as the BEM does, whatever
+    /// asperities a run keeps and however far a fitted summit vertex stands
+    /// above its grid point.
+    pub top: f64,
 }
 
 /// Segments `map` and builds one tabulated cap and law per asperity.
@@ -190,10 +196,13 @@ pub fn texture_road(
     }
     let set = AsperitySet::new(positions, heights, laws)
         .map_err(|e| TextureRoadError::InvalidInput(e.to_string()))?;
+    // A map without a valid point has no asperity (refused above).
+    let top = map.min_max().map_or(set.top(), |(_, hi)| hi);
     Ok(TextureRoad {
         set,
         segmentation: seg,
         asperity_index,
+        top,
     })
 }
 

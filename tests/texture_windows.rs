@@ -166,12 +166,14 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
 }
 
 /// The whole road as a rolling scenario builds it: the texture's
-/// asperities in the rolling order, y centred on the map's mid-width.
+/// asperities in the rolling order, y centred on the map's mid-width, the
+/// approach from the map's highest point.
 fn rolling_road(built: &TextureRoad, map: &HeightMap) -> Road<TextureLaw> {
     let (set, radii) = built.rolling_set().unwrap();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     Road::new(set.translated([0.0, -y_mid]).unwrap())
         .with_summit_radii(radii)
+        .and_then(|r| r.with_top(built.top))
         .unwrap()
 }
 

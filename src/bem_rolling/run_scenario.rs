@@ -344,7 +344,11 @@ fn summit_gap_run(
         par,
         ..rolling::RunOptions::default()
     };
-    rolling::roll(&rolling::Road::new(set), material, config, &options)
+    // The approach from the map's highest point, as the scenario's run.
+    let road = rolling::Road::new(set)
+        .with_top(road.top)
+        .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))?;
+    rolling::roll(&road, material, config, &options)
         .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))
 }
 

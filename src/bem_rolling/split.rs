@@ -73,7 +73,8 @@ pub struct AsperityShare {
     pub model_sensor_at_bem_approach: f64,
     /// Model interpenetration `δ_i` under the scenario's control (m).
     pub model_depth: f64,
-    /// `H_model` (m, from the road's highest summit).
+    /// `H_model` (m, from the road's reference plane, the map's highest
+    /// point).
     pub gap_model: f64,
     /// `H_exact` (m, same reference): the basin's cells under the tread.
     pub gap_exact: f64,
@@ -92,7 +93,7 @@ pub struct AsperityShare {
 pub struct StepSplit {
     /// Footprint centre `x_c` (m).
     pub position: f64,
-    /// BEM approach below the road's highest summit (m).
+    /// BEM approach below the road's reference plane (m).
     pub bem_approach: f64,
     /// Model approach under the scenario's control (m).
     pub model_approach: f64,
@@ -178,6 +179,7 @@ pub fn asperity_split(
         .map_err(|e| invalid(format!("texture road: {e}")))?;
     let wilke = Road::new(set)
         .with_summit_radii(radii.clone())
+        .and_then(|r| r.with_top(troad.top))
         .map_err(|e| invalid(e.to_string()))?;
     let field = texture_field(&map)?;
     let ctx = Context {
@@ -226,6 +228,7 @@ pub fn asperity_split(
         let radii = cal.kept.iter().map(|&i| radii[i]).collect();
         let road = Road::new(cal.set)
             .with_summit_radii(radii)
+            .and_then(|r| r.with_top(troad.top))
             .map_err(|e| invalid(e.to_string()))?;
         let basins: Vec<usize> = cal.kept.iter().map(|&i| troad.asperity_index[i]).collect();
         split_road(&road, &basins, &ctx, positions)

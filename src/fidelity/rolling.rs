@@ -10,7 +10,8 @@
 //! table).
 //!
 //! The tables must cover the depths in use. At approach `δ0` (below the
-//! road's highest summit `z_top`) asperity `i` is pressed at most
+//! road's reference plane `z_top`, the map's highest point,
+//! [`crate::rolling::Road::top`]) asperity `i` is pressed at most
 //! `δ0 − (z_top − z_i)` deep (the tread's profile `s ≥ 0` only lowers it),
 //! so tabulating every cap to `margin × max δ0` covers the run (the
 //! *bound*); `max δ0` is bounded by a Wilke run on a few evenly spaced
@@ -453,7 +454,9 @@ fn laws_along_path(
         .collect()
 }
 
-/// The rolling road on a calibrated `set` with its summit `radii`: when
+/// The rolling road on a calibrated `set` with its summit `radii`, its
+/// approach measured from `top` (m; the map's highest point,
+/// [`crate::texture_road::TextureRoad::top`]): when
 /// its laws are calibrated along the path
 /// ([`CalibrateUnder::TreadSlope`]), each step places them at its own
 /// offsets ([`CalibratedLaw::at_offset`], [`crate::rolling::Placement`]).
@@ -463,9 +466,12 @@ fn laws_along_path(
 pub fn calibrated_rolling_road(
     set: AsperitySet<CalibratedLaw>,
     radii: Vec<f64>,
+    top: f64,
 ) -> Result<rolling::Road<CalibratedLaw>, rolling::RollingError> {
     let along = set.laws().iter().any(CalibratedLaw::is_along_path);
-    let road = rolling::Road::new(set).with_summit_radii(radii)?;
+    let road = rolling::Road::new(set)
+        .with_summit_radii(radii)?
+        .with_top(top)?;
     if along {
         road.with_placement(CalibratedLaw::at_offset)
     } else {

@@ -11,14 +11,14 @@ use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
-use super::texture::{TextureSummary, rolling_texture_road_set};
+use super::texture::{TextureSummary, rolling_texture_road_set, texture_rolling_road};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RoadSummary {
     /// The scenario's `[texture]`, split into asperities.
-    Texture(TextureSummary),
+    Texture(Box<TextureSummary>),
     /// The scenario's `[[asperity]]` list.
     Asperities {
         /// Number of asperities.
@@ -164,7 +164,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
         if matches!(what, What::Road | What::Gathered(_))
             && let Some(road) = npy_window_road(scenario, options, material)?
         {
-            let summary = RoadSummary::Texture(npy_summary(&road));
+            let summary = RoadSummary::Texture(Box::new(npy_summary(&road)));
             return match what {
                 What::Gathered(result) => {
                     let summits = npy_summits(&road)?;
@@ -182,11 +182,11 @@ pub(crate) fn rolling_on_uncalibrated_road(
         }
         let (set, summary, radii) = rolling_texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
-        let road = rolling::Road::new(set).with_summit_radii(radii)?;
+        let road = texture_rolling_road(set, &summary, radii)?;
         return roll_road(
             scenario,
             &road,
-            RoadSummary::Texture(summary),
+            RoadSummary::Texture(Box::new(summary)),
             material,
             spec,
             options,

@@ -130,8 +130,8 @@ fn calibrated_road(
         calibrator,
         plan,
     )?;
-    let road = crate::fidelity::rolling::calibrated_rolling_road(set, radii)?;
-    Ok((road, RoadSummary::Texture(summary)))
+    let road = crate::fidelity::rolling::calibrated_rolling_road(set, radii, summary.top)?;
+    Ok((road, RoadSummary::Texture(Box::new(summary))))
 }
 
 /// Rounds a whole run on calibrated laws may take: the first on tables to

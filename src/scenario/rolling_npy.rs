@@ -54,6 +54,7 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         spacing: (dx, dy),
         extent: ((nx - 1) as f64 * dx, (ny - 1) as f64 * dy),
         rms: road.rms(),
+        top: road.top(),
         asperities: road.len(),
         segmented: road.segmented(),
         calibration: None,

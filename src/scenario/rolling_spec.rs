@@ -95,7 +95,8 @@ pub enum TreadSpec {
 pub struct ControlSpec {
     /// Wheel load (load control).
     pub load: Option<Force>,
-    /// Approach below the road's highest summit (fixed axle height).
+    /// Approach below the road's reference plane (fixed axle height): its
+    /// highest summit, or a texture's highest point.
     pub approach: Option<Length>,
     /// Height of the tread's lowest point above z = 0 (fixed axle height).
     pub tread_height: Option<Length>,

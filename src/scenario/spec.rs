@@ -522,9 +522,9 @@ impl Scenario {
             .texture
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
-        let (set, _, radii) =
+        let (set, summary, radii) =
             super::texture::rolling_texture_road_set(texture, base_dir, self.material()?)?;
-        Ok(tyreroad_rolling::Road::new(set).with_summit_radii(radii)?)
+        super::texture::texture_rolling_road(set, &summary, radii)
     }
 
     /// [`Scenario::texture_rolling_road`] on the `calibrated` rung: the
@@ -547,7 +547,7 @@ impl Scenario {
             .texture
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
-        let (set, _, radii) = super::texture::calibrated_texture_road_set(
+        let (set, summary, radii) = super::texture::calibrated_texture_road_set(
             texture,
             base_dir,
             self.material()?,
@@ -557,7 +557,9 @@ impl Scenario {
             &crate::fidelity::table_depth::TablePlan::new(self.model.calibrate_under()?),
         )?;
         Ok(crate::fidelity::rolling::calibrated_rolling_road(
-            set, radii,
+            set,
+            radii,
+            summary.top,
         )?)
     }
 

@@ -34,6 +34,9 @@ pub struct TextureSummary {
     pub extent: (f64, f64),
     /// Sq (m), NaN when the map has no valid point.
     pub rms: f64,
+    /// The map's highest valid point (m): the plane a rolling run on the
+    /// texture measures its approach from ([`crate::texture_road::TextureRoad::top`]).
+    pub top: f64,
     /// Asperities kept (with a depth range).
     pub asperities: usize,
     /// Asperities the segmentation found.
@@ -118,6 +121,7 @@ impl TextureSummary {
             spacing: (map.dx(), map.dy()),
             extent: (map.length_x(), map.length_y()),
             rms: map.rms().unwrap_or(f64::NAN),
+            top: road.top,
             asperities: road.len(),
             segmented: road.segmentation.asperities().len(),
             calibration: None,
@@ -391,6 +395,19 @@ pub(crate) fn texture_road_set(
     Ok((centred_on_mid_width(road.set, &map)?, summary, radii))
 }
 
+/// The rolling road on a texture's asperities `set` (any laws): each gap at
+/// its cap's contact point (the summit `radii`), the approach from the
+/// map's highest point (`summary.top`, [`TextureRoad::top`]).
+pub(crate) fn texture_rolling_road<L>(
+    set: AsperitySet<L>,
+    summary: &TextureSummary,
+    radii: Vec<f64>,
+) -> Result<tyreroad_rolling::Road<L>, ScenarioError> {
+    Ok(tyreroad_rolling::Road::new(set)
+        .with_summit_radii(radii)?
+        .with_top(summary.top)?)
+}
+
 /// `set` moved so that y is centred on the map's mid-width (x unchanged):
 /// a rolling path at `lateral = 0` runs down the middle of the texture.
 fn centred_on_mid_width<L>(
@@ -477,7 +494,7 @@ pub(crate) fn calibrated_texture_road_set_with(
     let mut summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
     let set = centred_on_mid_width(road.set.clone(), &map)?;
-    let wilke = tyreroad_rolling::Road::new(set).with_summit_radii(radii.clone())?;
+    let wilke = texture_rolling_road(set, &summary, radii.clone())?;
     let calibrated = calibrate_rolling_road_under(
         &road, &wilke, &map, config, calibrator, par, plan,
     )

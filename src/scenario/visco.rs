@@ -19,7 +19,9 @@ use tyreroad_viscoelastic::{
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
-use super::texture::{calibrated_texture_road_set_with, rolling_calibrator, texture_road_set};
+use super::texture::{
+    calibrated_texture_road_set_with, rolling_calibrator, texture_road_set, texture_rolling_road,
+};
 use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::rolling_fields::FieldRolling;
@@ -575,7 +577,7 @@ impl Scenario {
                     &rolling_calibrator(reference, None, fields),
                     &crate::fidelity::table_depth::TablePlan::bound(under),
                 )?;
-                let road = rolling::Road::new(set).with_summit_radii(radii)?;
+                let road = texture_rolling_road(set, &summary, radii)?;
                 let sweep = Sweep {
                     material: reference,
                     ..sweep
@@ -588,12 +590,12 @@ impl Scenario {
                 let coupling = coupling
                     .as_ref()
                     .map(|c| c as &dyn rolling::StepCoupling<CalibratedLaw>);
-                return Ok(sweep.on(&road, RoadSummary::Texture(summary), coupling));
+                return Ok(sweep.on(&road, RoadSummary::Texture(Box::new(summary)), coupling));
             }
             let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
             // Gaps at each cap's contact point, as the elastic run takes them.
-            let road = rolling::Road::new(set).with_summit_radii(radii)?;
-            return Ok(sweep.on(&road, RoadSummary::Texture(summary), None));
+            let road = texture_rolling_road(set, &summary, radii)?;
+            return Ok(sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None));
         }
         match (self.asperities.is_empty(), &spec.synthetic_road) {
             (false, None) => {

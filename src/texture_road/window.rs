@@ -189,6 +189,7 @@ impl NpyTextureRoad {
                     if let Some(z) = map.get(i, j) {
                         squares.0 += (z - mean) * (z - mean);
                         squares.1 += 1;
+                        top = top.max(z);
                     }
                 }
             }
@@ -198,7 +199,6 @@ impl NpyTextureRoad {
                 let position = [b.position[0] + 0.0, b.position[1] + y_shift];
                 digest.push_probed(position, b.height, &b.probed);
                 digest.push_summit_radius(b.radius);
-                top = top.max(b.height);
             }
         })?;
         road.top = top;
@@ -230,7 +230,8 @@ impl NpyTextureRoad {
         self.segmented
     }
 
-    /// The whole road's highest summit `z_max` (m).
+    /// The whole map's highest valid point `z_max` (m): the plane the
+    /// approach is measured from, as [`super::TextureRoad::top`].
     pub fn top(&self) -> f64 {
         self.top
     }

@@ -105,6 +105,7 @@ pub fn calibrated_road(
     let radii = troad.summit_radii();
     let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("frame"))
         .with_summit_radii(radii.clone())
+        .and_then(|r| r.with_top(troad.top))
         .expect("radii");
     let calibrator = Calibrator::new(m, CalibrationOptions::default()).with_fields();
     let cal = calibrate_rolling_road_under(
@@ -119,7 +120,7 @@ pub fn calibrated_road(
     .expect("calibration");
     let radii = cal.kept.iter().map(|&i| radii[i]).collect();
     (
-        calibrated_rolling_road(cal.set, radii).expect("road"),
+        calibrated_rolling_road(cal.set, radii, troad.top).expect("road"),
         cal.max_approach,
     )
 }

@@ -84,8 +84,9 @@ pub(crate) fn with_coupling(hash: u64, key: u64) -> u64 {
 }
 
 /// Hash of everything that determines a run's results: the road (positions,
-/// heights, and each law's fingerprint — force and stiffness at 0.1 µm to
-/// 1 mm), the material and the configuration. Not the chunking nor the
+/// heights, each law's fingerprint — force and stiffness at 0.1 µm to
+/// 1 mm — and its reference plane [`Road::top`]), the material and the
+/// configuration. Not the chunking nor the
 /// threads: they do not change the results.
 pub fn input_hash<L: ContactLaw>(
     road: &Road<L>,
@@ -95,6 +96,10 @@ pub fn input_hash<L: ContactLaw>(
     // The road's part, streamed in id order (a window carries its whole
     // road's), then the rest.
     let mut h = Fnv(road.digest());
+    // The reference plane moves the approach (and, under approach or
+    // tread-height control, the tread): a checkpoint of another plane is
+    // another run.
+    h.f(road.top());
     h.f(material.youngs_modulus());
     h.f(material.poisson_ratio());
     match config.tread {

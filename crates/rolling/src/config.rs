@@ -16,8 +16,8 @@ pub enum RollingControl {
     /// output.
     Load(f64),
     /// Displacement control at a fixed axle height, given as the approach
-    /// `δ0` (m) of the tread's lowest point below the road's highest summit
-    /// ([`Road::top`](crate::Road::top)); the total force is an output.
+    /// `δ0` (m) of the tread's lowest point below the road's reference
+    /// plane ([`Road::top`](crate::Road::top)); the total force is an output.
     Approach(f64),
     /// Displacement control at a fixed axle height, given as the height `h`
     /// (m) of the tread's lowest point above the road datum `z = 0`:

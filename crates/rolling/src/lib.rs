@@ -16,9 +16,11 @@
 //! ```
 //!
 //! (`L × W` the footprint, `m` the selection margin). The gaps of the
-//! sub-problem at one step are measured from the road's **highest summit**
-//! `z_max` (the whole road's, not the footprint's, so that the approach is
-//! one continuous signal):
+//! sub-problem at one step are measured from the road's **reference plane**
+//! `z_max` ([`Road::top`]: the whole road's highest summit, or the highest
+//! point of the height map it was measured on, [`Road::with_top`]; the
+//! whole road's, not the footprint's, so that the approach is one
+//! continuous signal):
 //!
 //! ```text
 //! H_i = (z_max − z_i) + s(x_i − x_c, y_i − y_c),     δ_i = δ0 − H_i − u_i

@@ -52,7 +52,8 @@ pub struct StepRecord {
     pub time: f64,
     /// Total contact force `Σ P_i` (N).
     pub total_force: f64,
-    /// Approach `δ0` of the tread below the road's highest summit (m).
+    /// Approach `δ0` of the tread below the road's reference plane
+    /// ([`crate::Road::top`]) (m).
     pub approach: f64,
     /// Contact area `Σ π a_i²` of the local contacts (m²).
     pub contact_area: f64,

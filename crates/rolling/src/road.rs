@@ -24,8 +24,8 @@ use crate::checkpoint::RoadDigest;
 /// A **window** ([`Road::window_of`]) holds only the asperities of a whole
 /// road that lie in an x-range, with what the results need from the whole
 /// road: each asperity's global id (records, checkpoints and outputs name
-/// asperities by it), the whole road's highest summit (the gaps' reference
-/// plane) and its digest (the checkpoint key). Rolled on the steps whose
+/// asperities by it), the whole road's reference plane ([`Road::top`]) and
+/// its digest (the checkpoint key). Rolled on the steps whose
 /// footprints lie inside the window, it gives the whole road's records bit
 /// for bit: the selection at a step is the same asperities in the same
 /// order, so the same sub-problem. Inside the crate asperities are indexed
@@ -37,7 +37,8 @@ pub struct Road<L> {
     by_x: Vec<usize>,
     /// `positions[by_x[k]][0]`.
     sorted_x: Vec<f64>,
-    /// The whole road's highest summit, read at every step.
+    /// The plane the approach is measured from (m): the whole road's
+    /// highest summit unless given ([`Road::with_top`]); read at every step.
     top: f64,
     /// A window's global ids by local index, increasing; `None`: the whole
     /// road (global id = local index).
@@ -79,14 +80,13 @@ impl<L> Road<L> {
 
     /// The window of a whole road: `set` holds the whole road's asperities
     /// `global_ids` (strictly increasing, below `global_len`), in that
-    /// order; `top` is the whole road's highest summit and `digest` its
-    /// [`RoadDigest`] (both are what [`Road::new`] on the whole road would
-    /// compute, so a window's records and checkpoints are the whole road's).
+    /// order; `top` is the whole road's reference plane ([`Road::top`]) and
+    /// `digest` its [`RoadDigest`] (both are what the whole road has, so a
+    /// window's records and checkpoints are the whole road's).
     ///
     /// # Errors
     /// [`RollingError::InvalidInput`] when the ids are not one per asperity,
-    /// strictly increasing and below `global_len`, or `top` is below a
-    /// summit of the window.
+    /// strictly increasing and below `global_len`, or `top` is not finite.
     pub fn window_of(
         set: AsperitySet<L>,
         global_ids: Vec<usize>,
@@ -106,10 +106,9 @@ impl<L> Road<L> {
                 set.len()
             )));
         }
-        if !(top >= set.top()) {
+        if !top.is_finite() {
             return Err(RollingError::InvalidInput(format!(
-                "a road window's highest summit {top} m is below one of its summits ({} m)",
-                set.top()
+                "a road window's reference plane must be finite, got {top} m"
             )));
         }
         let mut road = Self::new(set);
@@ -249,10 +248,35 @@ impl<L> Road<L> {
         self.set.laws()
     }
 
-    /// The whole road's highest summit `z_max` (m): the reference plane of
-    /// the gaps.
+    /// The reference plane `z_max` (m) of the gaps `H_i = z_max − z_i + s`
+    /// and of the approach `δ0`: the whole road's highest summit, or the
+    /// height given to [`Road::with_top`].
     pub fn top(&self) -> f64 {
         self.top
+    }
+
+    /// The same road with its approach measured from `top` (m) instead of
+    /// its highest summit.
+    ///
+    /// A road measured on a height map gives the map's highest point: the
+    /// approach is then a property of the surface, as a full-grid BEM
+    /// measures it, and does not change with the asperities a run keeps
+    /// (the path's selectable ones, a stretch of the path) or with how far
+    /// a fitted summit vertex stands above its grid point. A summit may
+    /// stand above `top` (its gap is then negative at `s = 0`): the forces
+    /// do not depend on the plane, only `δ0` under load control does, and
+    /// under approach or tread-height control it fixes where the tread is.
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] if `top` is not finite.
+    pub fn with_top(mut self, top: f64) -> Result<Self, RollingError> {
+        if !top.is_finite() {
+            return Err(RollingError::InvalidInput(format!(
+                "a road's reference plane must be finite, got {top} m"
+            )));
+        }
+        self.top = top;
+        Ok(self)
     }
 
     /// Extent `[x_min, x_max]` of the summits along x (m).

@@ -11,7 +11,7 @@ use tyreroad_multipoint::{AsperitySet, Control, Par, Problem, SolverOptions, sol
 use tyreroad_rolling::{
     Band, CheckpointOptions, Progress, Road, RollingConfig, RollingControl, RollingError,
     RollingResult, RunOptions, Sensor, StepRecord, SyntheticRoad, Tread, band_levels, bands_below,
-    roll, welch,
+    input_hash, roll, welch,
 };
 
 type Law = PotentialLaw<Sphere>;
@@ -41,6 +41,23 @@ fn tyre() -> Tread {
         length: 0.1,
         width: 0.06,
     }
+}
+
+/// The tyre from x = 0.05 to 0.15 m in steps of `step` (m) under 120 N,
+/// a 20 mm sensor at the path's middle.
+fn tyre_with_sensor(step: f64) -> RollingConfig {
+    let mut config = RollingConfig::new(
+        tyre(),
+        [0.05, 0.15, step],
+        13.9,
+        RollingControl::Load(120.0),
+    );
+    config.sensors.push(Sensor {
+        name: "s".into(),
+        x: [0.09, 0.11],
+        y: [-0.01, 0.01],
+    });
+    config
 }
 
 fn close(a: f64, b: f64, rel: f64) -> bool {
@@ -139,17 +156,7 @@ fn single_step_equals_direct_static_solve() -> TestResult {
 #[test]
 fn chunking_and_threads_do_not_change_results() -> TestResult {
     let road = small_road();
-    let mut config = RollingConfig::new(
-        tyre(),
-        [0.05, 0.15, 2e-3],
-        13.9,
-        RollingControl::Load(120.0),
-    );
-    config.sensors.push(Sensor {
-        name: "s".into(),
-        x: [0.09, 0.11],
-        y: [-0.01, 0.01],
-    });
+    let config = tyre_with_sensor(2e-3);
     let reference = roll(
         &road,
         rubber(),
@@ -204,6 +211,61 @@ fn chunking_and_threads_do_not_change_results() -> TestResult {
         }
     }
     println!("chunking/threads: worst relative approach difference {worst:.2e}");
+    Ok(())
+}
+
+/// A road's reference plane (`Road::with_top`) moves the approach and
+/// nothing else under load control: the same forces, contacts and sensor
+/// signals, `δ0` larger by exactly the plane's rise; under approach
+/// control the same plane and approach give the same run. It is part of
+/// the checkpoint key, and a plane that is not finite is refused.
+#[test]
+fn the_reference_plane_moves_the_approach_only() -> TestResult {
+    let road = small_road();
+    let rise = 0.37e-3;
+    let raised = small_road().with_top(road.top() + rise)?;
+    let config = tyre_with_sensor(5e-3);
+    let options = RunOptions::default();
+    let a = roll(&road, rubber(), &config, &options)?;
+    let b = roll(&raised, rubber(), &config, &options)?;
+    assert_eq!(a.steps.len(), b.steps.len());
+    for (x, y) in a.steps.iter().zip(&b.steps) {
+        assert_eq!(x.contact_ids, y.contact_ids);
+        assert!(close(x.total_force, y.total_force, 1e-9), "{x:?}\n{y:?}");
+        for (f, g) in x.contact_forces.iter().zip(&y.contact_forces) {
+            assert!((f - g).abs() <= 1e-7 * x.total_force, "{f} against {g}");
+        }
+        for (f, g) in x.sensor_forces.iter().zip(&y.sensor_forces) {
+            assert!((f - g).abs() <= 1e-7 * x.total_force, "{f} against {g}");
+        }
+        // 1 nm of a 0.37 mm rise (the solver's tolerance on δ0).
+        assert!(
+            (y.approach - x.approach - rise).abs() < 1e-9,
+            "{} {}",
+            x.approach,
+            y.approach
+        );
+    }
+    // Under approach control the raised plane with the raised approach is
+    // the same tread position: the same forces.
+    let mut held = config.clone();
+    held.control = RollingControl::Approach(a.steps[10].approach);
+    let at_a = roll(&road, rubber(), &held, &options)?;
+    held.control = RollingControl::Approach(a.steps[10].approach + rise);
+    let at_b = roll(&raised, rubber(), &held, &options)?;
+    for (x, y) in at_a.steps.iter().zip(&at_b.steps) {
+        assert!(close(x.total_force, y.total_force, 1e-9), "{x:?}\n{y:?}");
+    }
+    assert_ne!(
+        input_hash(&road, &rubber(), &config),
+        input_hash(&raised, &rubber(), &config)
+    );
+    for bad in [f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            small_road().with_top(bad),
+            Err(RollingError::InvalidInput(_))
+        ));
+    }
     Ok(())
 }
 
