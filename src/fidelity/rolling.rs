@@ -55,7 +55,8 @@ pub struct RollingCalibration {
     pub set: AsperitySet<CalibratedLaw>,
     /// Index in the texture road of each asperity of `set`.
     pub kept: Vec<usize>,
-    /// Largest approach (m) the tables cover.
+    /// Largest approach (m) the tables cover, from the texture's highest
+    /// summit (the plane the tables' depths are measured from).
     pub max_approach: f64,
     /// The largest bulk sag (m) taken off the tables' depths (0 for tables
     /// to the bound, [`super::table_depth`]).
@@ -334,7 +335,11 @@ fn calibrate_rolling_road_by(
     let under = plan.under;
     let material = *calibrator.material();
     let (bound, coarse) = coarse_run(wilke, material, config, par)?;
-    let max_approach = APPROACH_MARGIN * bound;
+    // The bound is measured from the rolling road's reference plane (a
+    // texture's highest point, `Road::with_top`), the tables' depths from
+    // the texture's highest summit, which a fitted vertex may raise above
+    // that plane: the tables reach as much deeper.
+    let max_approach = APPROACH_MARGIN * bound + (road.set.top() - wilke.top()).max(0.0);
     let kept = selectable(wilke.positions(), config);
     if kept.is_empty() {
         return Err(FidelityError::invalid(

@@ -18,8 +18,10 @@
 //! law of each asperity whose summit lies in the tile, exactly as
 //! [`super::texture_road`] does on the whole map. A tile's asperities,
 //! sorted by id, are folded into the road's digest
-//! ([`rolling::RoadDigest`], radii in their own stream) and highest summit
-//! `z_max` and counted per block, then dropped. What stays is 8 B per block
+//! ([`rolling::RoadDigest`], radii in their own stream) and counted per
+//! block, then dropped; the tile's valid heights also give the
+//! reference plane `z_max` (the map's highest point, as
+//! [`super::TextureRoad::top`]). What stays is 8 B per block
 //! (about 125 B per metre at 1 mm spacing): no per-asperity state.
 //!
 //! [`NpyTextureRoad::window`] then builds the road window of an x-range:
