@@ -267,17 +267,15 @@ fn texture_roads(
     tyreroad::rolling::Road<tyreroad::texture_road::TextureLaw>,
     tyreroad::texture::HeightMap,
 ) {
-    use tyreroad::rolling::Road;
     let texture = scenario.texture.as_ref().expect("texture");
     let map = texture.height_map(base).expect("map");
     let material = scenario.material().expect("material");
     let troad = tyreroad::texture_road::texture_road(&map, material, &texture.road_options())
         .expect("texture road");
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("set"))
-        .with_summit_radii(troad.summit_radii())
-        .and_then(|r| r.with_top(troad.top))
-        .expect("radii");
+    let set = troad.set.clone().translated([0.0, -y_mid]).expect("set");
+    let wilke =
+        tyreroad::texture_road::rolling_road(set, troad.summit_radii(), troad.top).expect("radii");
     (troad, wilke, map)
 }
 

@@ -323,6 +323,25 @@ impl TextureRoad {
     }
 }
 
+/// The rolling road on a texture's asperities `set` (its own laws or
+/// calibrated ones, in any frame): the tread's gap at each cap's contact
+/// point (summit `radii`, [`TextureRoad::summit_radii`]), the approach from
+/// the map's highest point `top` ([`TextureRoad::top`]), as the BEM
+/// measures it whatever asperities a run keeps.
+///
+/// # Errors
+/// Those of [`crate::rolling::Road::with_summit_radii`] and
+/// [`crate::rolling::Road::with_top`].
+pub fn rolling_road<L>(
+    set: AsperitySet<L>,
+    radii: Vec<f64>,
+    top: f64,
+) -> Result<crate::rolling::Road<L>, crate::rolling::RollingError> {
+    crate::rolling::Road::new(set)
+        .with_summit_radii(radii)?
+        .with_top(top)
+}
+
 impl TextureRoad {
     /// Each kept asperity's equivalent summit radius (m), as in
     /// [`TextureRoad::local_shapes`]: the rolling road measures the tread

@@ -327,19 +327,37 @@ fn a_cap_the_tyre_lifts_is_tabulated_only_as_deep_as_the_path_presses_it() -> Te
     Ok(())
 }
 
-/// A rolling scenario on a 30 × 20 mm aggregate texture (4/6 chippings,
-/// 0.2 mm cells), a flat 20 × 16 mm block across it for eight steps.
-fn rolling_scenario(fidelity: &str) -> String {
+/// A rolling scenario on rung `fidelity`: a flat block (`length`, `width`)
+/// from `start` to `end` in 0.5 mm steps under `load`, on the texture its
+/// `[texture]` section (`texture`, TOML) describes.
+fn block_scenario(
+    fidelity: &str,
+    [start, end]: [&str; 2],
+    [length, width]: [&str; 2],
+    load: &str,
+    texture: &str,
+) -> String {
     format!(
         "name = \"r\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
          [model]\nfidelity = \"{fidelity}\"\n\
-         [rolling]\nstart = \"13 mm\"\nend = \"16.5 mm\"\nstep = \"0.5 mm\"\nspeed = \"10 m/s\"\n\
+         [rolling]\nstart = \"{start}\"\nend = \"{end}\"\nstep = \"0.5 mm\"\nspeed = \"10 m/s\"\n\
          checkpoint = false\nthreads = 1\n\
-         [rolling.tread]\nkind = \"block\"\nlength = \"20 mm\"\nwidth = \"16 mm\"\n\
-         [rolling.control]\nload = \"5 N\"\n\
-         [texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
+         [rolling.tread]\nkind = \"block\"\nlength = \"{length}\"\nwidth = \"{width}\"\n\
+         [rolling.control]\nload = \"{load}\"\n{texture}"
+    )
+}
+
+/// A rolling scenario on a 30 × 20 mm aggregate texture (4/6 chippings,
+/// 0.2 mm cells), a flat 20 × 16 mm block across it for eight steps.
+fn rolling_scenario(fidelity: &str) -> String {
+    block_scenario(
+        fidelity,
+        ["13 mm", "16.5 mm"],
+        ["20 mm", "16 mm"],
+        "5 N",
+        "[texture]\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n\
          [texture.synth]\nkind = \"aggregate\"\nnx = 150\nny = 100\nspacing = \"0.2 mm\"\n\
-         grading = \"4/6\"\nseed = 2006\n"
+         grading = \"4/6\"\nseed = 2006\n",
     )
 }
 
@@ -485,14 +503,12 @@ fn a_calibrated_run_measures_its_approach_from_the_maps_highest_point() -> TestR
         dir.path().join("caps.asc"),
     )?;
     let text = |fidelity: &str| {
-        format!(
-            "name = \"far\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
-             [model]\nfidelity = \"{fidelity}\"\n\
-             [rolling]\nstart = \"11 mm\"\nend = \"13 mm\"\nstep = \"0.5 mm\"\nspeed = \"10 m/s\"\n\
-             checkpoint = false\nthreads = 1\n\
-             [rolling.tread]\nkind = \"block\"\nlength = \"14 mm\"\nwidth = \"10 mm\"\n\
-             [rolling.control]\nload = \"3 N\"\n\
-             [texture]\nfile = \"caps.asc\"\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\n"
+        block_scenario(
+            fidelity,
+            ["11 mm", "13 mm"],
+            ["14 mm", "10 mm"],
+            "3 N",
+            "[texture]\nfile = \"caps.asc\"\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\n",
         )
     };
     let run = |fidelity: &str| -> Result<(Vec<f64>, f64), Box<dyn std::error::Error>> {

@@ -171,9 +171,7 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
 fn rolling_road(built: &TextureRoad, map: &HeightMap) -> Road<TextureLaw> {
     let (set, radii) = built.rolling_set().unwrap();
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    Road::new(set.translated([0.0, -y_mid]).unwrap())
-        .with_summit_radii(radii)
-        .and_then(|r| r.with_top(built.top))
+    tyreroad::texture_road::rolling_road(set.translated([0.0, -y_mid]).unwrap(), radii, built.top)
         .unwrap()
 }
 

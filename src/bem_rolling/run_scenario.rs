@@ -345,10 +345,9 @@ fn summit_gap_run(
         ..rolling::RunOptions::default()
     };
     // The approach from the map's highest point, as the scenario's run.
-    let road = rolling::Road::new(set)
+    rolling::Road::new(set)
         .with_top(road.top)
-        .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))?;
-    rolling::roll(&road, material, config, &options)
+        .and_then(|road| rolling::roll(&road, material, config, &options))
         .map_err(|e| BemRollingError::InvalidInput(format!("summit-gap run: {e}")))
 }
 

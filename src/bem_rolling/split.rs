@@ -28,7 +28,8 @@ use std::path::Path;
 
 use crate::bem::{BemOptions, Control as BemControl, Solver};
 use crate::fidelity::{
-    CalibrationOptions, Calibrator, Fidelity, rolling::calibrate_rolling_road_under,
+    CalibrationOptions, Calibrator, Fidelity,
+    rolling::{calibrate_rolling_road_under, calibrated_rolling_road},
     table_depth::TablePlan,
 };
 use crate::multipoint::Control;
@@ -36,7 +37,7 @@ use crate::rolling::{ContactLaw, Road, RollingConfig, RollingControl, settled_st
 use crate::scenario::Scenario;
 use crate::shared::{Field, Grid, Material, Par};
 use crate::texture::{HeightMap, UNLABELLED};
-use crate::texture_road::texture_road;
+use crate::texture_road::{rolling_road, texture_road};
 
 use super::run_scenario::{Stretch, cut_to_stretch, texture_field};
 use super::{
@@ -177,10 +178,7 @@ pub fn asperity_split(
         .clone()
         .translated([0.0, -y_mid])
         .map_err(|e| invalid(format!("texture road: {e}")))?;
-    let wilke = Road::new(set)
-        .with_summit_radii(radii.clone())
-        .and_then(|r| r.with_top(troad.top))
-        .map_err(|e| invalid(e.to_string()))?;
+    let wilke = rolling_road(set, radii.clone(), troad.top).map_err(|e| invalid(e.to_string()))?;
     let field = texture_field(&map)?;
     let ctx = Context {
         map: &map,
@@ -226,9 +224,7 @@ pub fn asperity_split(
         )
         .map_err(|e| invalid(format!("calibration: {e}")))?;
         let radii = cal.kept.iter().map(|&i| radii[i]).collect();
-        let road = Road::new(cal.set)
-            .with_summit_radii(radii)
-            .and_then(|r| r.with_top(troad.top))
+        let road = calibrated_rolling_road(cal.set, radii, troad.top)
             .map_err(|e| invalid(e.to_string()))?;
         let basins: Vec<usize> = cal.kept.iter().map(|&i| troad.asperity_index[i]).collect();
         split_road(&road, &basins, &ctx, positions)

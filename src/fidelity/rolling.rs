@@ -474,9 +474,7 @@ pub fn calibrated_rolling_road(
     top: f64,
 ) -> Result<rolling::Road<CalibratedLaw>, rolling::RollingError> {
     let along = set.laws().iter().any(CalibratedLaw::is_along_path);
-    let road = rolling::Road::new(set)
-        .with_summit_radii(radii)?
-        .with_top(top)?;
+    let road = crate::texture_road::rolling_road(set, radii, top)?;
     if along {
         road.with_placement(CalibratedLaw::at_offset)
     } else {

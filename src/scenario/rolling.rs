@@ -11,8 +11,9 @@ use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
-use super::texture::{TextureSummary, rolling_texture_road_set, texture_rolling_road};
+use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::texture_road::rolling_road;
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,7 +183,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
         }
         let (set, summary, radii) = rolling_texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
-        let road = texture_rolling_road(set, &summary, radii)?;
+        let road = rolling_road(set, radii, summary.top)?;
         return roll_road(
             scenario,
             &road,

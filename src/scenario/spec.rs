@@ -524,7 +524,7 @@ impl Scenario {
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
         let (set, summary, radii) =
             super::texture::rolling_texture_road_set(texture, base_dir, self.material()?)?;
-        super::texture::texture_rolling_road(set, &summary, radii)
+        Ok(crate::texture_road::rolling_road(set, radii, summary.top)?)
     }
 
     /// [`Scenario::texture_rolling_road`] on the `calibrated` rung: the

@@ -20,7 +20,7 @@ use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, CapFallback, Coupling, FidelityError, LawSource,
     calibrated_set_or_wilke,
 };
-use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, texture_road};
+use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, rolling_road, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
 /// What the segmentation made of a height map.
@@ -395,19 +395,6 @@ pub(crate) fn texture_road_set(
     Ok((centred_on_mid_width(road.set, &map)?, summary, radii))
 }
 
-/// The rolling road on a texture's asperities `set` (any laws): each gap at
-/// its cap's contact point (the summit `radii`), the approach from the
-/// map's highest point (`summary.top`, [`TextureRoad::top`]).
-pub(crate) fn texture_rolling_road<L>(
-    set: AsperitySet<L>,
-    summary: &TextureSummary,
-    radii: Vec<f64>,
-) -> Result<tyreroad_rolling::Road<L>, ScenarioError> {
-    Ok(tyreroad_rolling::Road::new(set)
-        .with_summit_radii(radii)?
-        .with_top(summary.top)?)
-}
-
 /// `set` moved so that y is centred on the map's mid-width (x unchanged):
 /// a rolling path at `lateral = 0` runs down the middle of the texture.
 fn centred_on_mid_width<L>(
@@ -494,7 +481,7 @@ pub(crate) fn calibrated_texture_road_set_with(
     let mut summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
     let set = centred_on_mid_width(road.set.clone(), &map)?;
-    let wilke = texture_rolling_road(set, &summary, radii.clone())?;
+    let wilke = rolling_road(set, radii.clone(), summary.top)?;
     let calibrated = calibrate_rolling_road_under(
         &road, &wilke, &map, config, calibrator, par, plan,
     )

@@ -19,13 +19,12 @@ use tyreroad_viscoelastic::{
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
 use super::rolling::{RoadSummary, RollingRun, spectra};
-use super::texture::{
-    calibrated_texture_road_set_with, rolling_calibrator, texture_road_set, texture_rolling_road,
-};
+use super::texture::{calibrated_texture_road_set_with, rolling_calibrator, texture_road_set};
 use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::rolling_fields::FieldRolling;
 use crate::fidelity::{CalibratedLaw, Fidelity};
+use crate::texture_road::rolling_road;
 
 /// The time dimension of relaxation times.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -577,7 +576,7 @@ impl Scenario {
                     &rolling_calibrator(reference, None, fields),
                     &crate::fidelity::table_depth::TablePlan::bound(under),
                 )?;
-                let road = texture_rolling_road(set, &summary, radii)?;
+                let road = rolling_road(set, radii, summary.top)?;
                 let sweep = Sweep {
                     material: reference,
                     ..sweep
@@ -594,7 +593,7 @@ impl Scenario {
             }
             let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
             // Gaps at each cap's contact point, as the elastic run takes them.
-            let road = texture_rolling_road(set, &summary, radii)?;
+            let road = rolling_road(set, radii, summary.top)?;
             return Ok(sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None));
         }
         match (self.asperities.is_empty(), &spec.synthetic_road) {

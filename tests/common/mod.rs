@@ -9,7 +9,7 @@ use tyreroad::fidelity::{CalibratedLaw, CalibrationOptions, Calibrator};
 use tyreroad::rolling::{Road, RollingConfig};
 use tyreroad::shared::Par;
 use tyreroad::texture::HeightMap;
-use tyreroad::texture_road::{TextureRoadOptions, texture_road};
+use tyreroad::texture_road::{TextureRoadOptions, rolling_road, texture_road};
 
 /// Three ridges along y whose summits sit at alternate ends: cross-section
 /// radius 4 mm, ends rounded to 2 mm, each tilted by `tilt` (±, alternating)
@@ -103,10 +103,8 @@ pub fn calibrated_road(
     let troad = texture_road(map, m, &TextureRoadOptions::new(0.2e-3, 2e-6)).expect("texture road");
     let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
     let radii = troad.summit_radii();
-    let wilke = Road::new(troad.set.clone().translated([0.0, -y_mid]).expect("frame"))
-        .with_summit_radii(radii.clone())
-        .and_then(|r| r.with_top(troad.top))
-        .expect("radii");
+    let set = troad.set.clone().translated([0.0, -y_mid]).expect("frame");
+    let wilke = rolling_road(set, radii.clone(), troad.top).expect("radii");
     let calibrator = Calibrator::new(m, CalibrationOptions::default()).with_fields();
     let cal = calibrate_rolling_road_under(
         &troad,

@@ -106,13 +106,7 @@ impl<L> Road<L> {
                 set.len()
             )));
         }
-        if !top.is_finite() {
-            return Err(RollingError::InvalidInput(format!(
-                "a road window's reference plane must be finite, got {top} m"
-            )));
-        }
-        let mut road = Self::new(set);
-        road.top = top;
+        let mut road = Self::new(set).with_top(top)?;
         road.global_ids = Some(global_ids);
         road.global_len = global_len;
         road.digest = OnceLock::from(digest);
