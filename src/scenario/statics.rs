@@ -33,7 +33,8 @@ pub struct LoadRun {
     pub load: f64,
     /// Σ P_i (N).
     pub total: f64,
-    /// Approach δ0 (m).
+    /// Approach δ0 (m): from the highest summit on asperities, from the
+    /// map's highest point on a texture (as the BEM measures it).
     pub approach: f64,
     /// Asperities in contact.
     pub contacts: usize,

@@ -34,8 +34,9 @@ pub struct TextureSummary {
     pub extent: (f64, f64),
     /// Sq (m), NaN when the map has no valid point.
     pub rms: f64,
-    /// The map's highest valid point (m): the plane a rolling run on the
-    /// texture measures its approach from ([`crate::texture_road::TextureRoad::top`]).
+    /// The map's highest valid point (m): the plane a static or rolling run
+    /// on the texture measures its approach from
+    /// ([`crate::texture_road::TextureRoad::top`]).
     pub top: f64,
     /// Asperities kept (with a depth range).
     pub asperities: usize,
@@ -240,6 +241,10 @@ pub(crate) fn run_texture_static(
     let mut summary = TextureSummary::new(&map, &road);
     let shapes = road.local_shapes(&map)?;
     let positions = road.set.positions().to_vec();
+    // The solver measures its approach from the highest summit; a texture
+    // run reports it from the map's highest point, as the BEM and a
+    // rolling run on the same map do (`TextureRoad::top`).
+    let plane_shift = road.top - road.set.top();
     let ids: Vec<u32> = (1..=road.len() as u32).collect();
     let as_problem = |context: &str| {
         let context = context.to_string();
@@ -258,8 +263,8 @@ pub(crate) fn run_texture_static(
             // the law continues linearly, so a deeper solve still works).
             let wilke = Problem::from_set(road.set.clone(), material)
                 .map_err(as_problem("[texture] asperities"))?;
-            let top = loads.iter().copied().fold(0.0, f64::max);
-            let approach = solve(&wilke, Control::Load(top), &rung.solver)
+            let heaviest = loads.iter().copied().fold(0.0, f64::max);
+            let approach = solve(&wilke, Control::Load(heaviest), &rung.solver)
                 .map_err(as_problem(
                     "[model] fidelity: the approach range of the calibration",
                 ))?
@@ -326,7 +331,10 @@ pub(crate) fn run_texture_static(
         map_cell: Some(map.dx().min(map.dy())),
         ..TwoScaleOptions::default()
     };
-    let statics = solved.result;
+    let mut statics = solved.result;
+    for run in &mut statics.runs {
+        run.approach += plane_shift;
+    }
     let mut per_load = Vec::with_capacity(statics.runs.len());
     for r in &statics.runs {
         let forces: Vec<f64> = statics
