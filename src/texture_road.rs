@@ -32,7 +32,7 @@ use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
-    asperity_cap, segment,
+    asperity_cap, segment, split_wide_tops,
 };
 use crate::two_scale::LocalShape;
 
@@ -93,6 +93,10 @@ pub struct TextureRoadOptions {
     pub nodes: usize,
     /// Depth range of the tables.
     pub depth: CapDepth,
+    /// Split every basin whose top is wider than this (m) into tiles no
+    /// wider, one asperity each (`tyreroad_texture::split_wide_tops`: the
+    /// ground-flat plateaus of a porous asphalt); `None` keeps the basins.
+    pub max_cap_width: Option<f64>,
 }
 
 impl TextureRoadOptions {
@@ -105,6 +109,7 @@ impl TextureRoadOptions {
             constant: C_SPHERE,
             nodes: CapOptions::default().nodes,
             depth: CapDepth::BasinBottom,
+            max_cap_width: None,
         }
     }
 }
@@ -160,6 +165,10 @@ pub fn texture_road(
             min_area: opts.min_area,
         },
     )?;
+    let seg = match opts.max_cap_width {
+        Some(width) => split_wide_tops(&seg, map, width)?,
+        None => seg,
+    };
     let n = seg.asperities().len();
     let mut positions = Vec::with_capacity(n);
     let mut heights = Vec::with_capacity(n);
@@ -167,7 +176,7 @@ pub fn texture_road(
     let mut asperity_index = Vec::with_capacity(n);
     for (k, a) in seg.asperities().iter().enumerate() {
         let max_depth = match opts.depth {
-            CapDepth::BasinBottom => basin_depth(map, a),
+            CapDepth::BasinBottom => basin_depth(a),
             CapDepth::GridCapRange => None,
             CapDepth::Fixed(d) => Some(d),
         };
@@ -206,15 +215,11 @@ pub fn texture_road(
     })
 }
 
-/// Summit height minus the lowest valid point of the basin, if positive.
-pub(crate) fn basin_depth(map: &HeightMap, a: &Asperity) -> Option<f64> {
-    let low = a
-        .cells
-        .iter()
-        .filter(|&&c| map.valid()[c])
-        .map(|&c| map.heights()[c])
-        .fold(f64::INFINITY, f64::min);
-    let d = a.summit_height - low;
+/// Summit height minus the lowest valid point of the basin
+/// ([`Asperity::floor`]: of the whole basin for a piece of a split top),
+/// if positive.
+pub(crate) fn basin_depth(a: &Asperity) -> Option<f64> {
+    let d = a.summit_height - a.floor;
     (d.is_finite() && d > 0.0).then_some(d)
 }
 
@@ -257,7 +262,7 @@ impl TextureRoad {
             .zip(self.set.laws())
             .map(|(&k, law)| {
                 let a = &self.segmentation.asperities()[k];
-                let floor = -basin_depth(map, a).unwrap_or(0.0);
+                let floor = -basin_depth(a).unwrap_or(0.0);
                 let basin = BasinSurface {
                     map: Arc::clone(map),
                     labels: Arc::clone(&labels),

@@ -125,6 +125,10 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
         if let Some(c) = t.constant {
             in_range("[texture] constant", c, CONSTANT_RANGE, false, "")?;
         }
+        // From 10 µm (finer than any road's grid) to a metre (no road's top).
+        if let Some(w) = t.max_cap_width {
+            in_range("[texture] max_cap_width", w.value(), [1e-5, 1.0], true, "m")?;
+        }
         if let Some(synth) = &t.synth {
             check_synth(synth)?;
         }
@@ -766,6 +770,14 @@ mod tests {
             "min_prominence = \"-0.1 mm\"",
             "[texture] min_prominence",
         );
+        for width in ["0 mm", "-4 mm", "2 m"] {
+            refused(
+                ROLLING,
+                "min_prominence = \"0.1 mm\"",
+                &format!("min_prominence = \"0.1 mm\"\nmax_cap_width = \"{width}\""),
+                "[texture] max_cap_width",
+            );
+        }
         refused(
             ROLLING,
             "name = \"shoulder\"",

@@ -127,6 +127,10 @@ pub struct TextureSpec {
     pub min_area: Area,
     /// Shape constant c of the potential law (default 0.36).
     pub constant: Option<f64>,
+    /// Split basins whose top is wider than this into tiles no wider, one
+    /// asperity each, e.g. "8 mm" (`tyreroad_texture::split_wide_tops`;
+    /// absent: basins kept whole).
+    pub max_cap_width: Option<Length>,
 }
 
 /// The grid and seed of a hard road kind (`tyreroad_texture::roads`, with
@@ -232,6 +236,7 @@ impl TextureSpec {
     pub fn road_options(&self) -> TextureRoadOptions {
         let mut o = TextureRoadOptions::new(self.min_prominence.value(), self.min_area.value());
         o.constant = self.constant.unwrap_or(C_SPHERE);
+        o.max_cap_width = self.max_cap_width.map(|w| w.value());
         o
     }
 }

@@ -510,7 +510,7 @@ impl NpyTextureRoad {
                 continue;
             }
             let max_depth = match self.opts.depth {
-                CapDepth::BasinBottom => basin_depth(map, a),
+                CapDepth::BasinBottom => basin_depth(a),
                 CapDepth::GridCapRange => None,
                 CapDepth::Fixed(d) => Some(d),
             };
@@ -570,6 +570,15 @@ fn check_options(opts: &TextureRoadOptions) -> Result<(), TextureRoadError> {
         return Err(TextureRoadError::InvalidInput(format!(
             "cap tables need at least 4 nodes, got {}",
             opts.nodes
+        )));
+    }
+    // A window's basins are certified against the whole map's; their
+    // pieces would need the same certificate, which is not built yet.
+    if let Some(width) = opts.max_cap_width {
+        return Err(TextureRoadError::InvalidInput(format!(
+            "max_cap_width ({:.3} mm) splits wide tops on a whole map only, \
+             not on a road read in windows",
+            width * 1e3
         )));
     }
     Ok(())

@@ -122,16 +122,19 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod cap;
 mod error;
 mod heightmap;
 pub mod indicators;
 pub mod io;
 pub mod roads;
 pub mod segment;
+pub mod segment_split;
 mod segment_taint;
 pub mod segment_window;
 pub mod synth;
 
+pub use cap::{CapOptions, GridCap, asperity_cap};
 pub use error::TextureError;
 pub use heightmap::{HeightMap, MAX_POINTS};
 pub use indicators::{Mpd, ThirdOctaveBand, mean_profile_depth, third_octave_spectrum};
@@ -141,9 +144,7 @@ pub use roads::{
     TiningDirection, WornChipSeal, brushed_concrete, exposed_aggregate, pave, porous_asphalt,
     tining, worn_chip_seal,
 };
-pub use segment::{
-    Asperity, CapOptions, GridCap, SegmentOptions, Segmentation, SummitFit, UNLABELLED,
-    asperity_cap, segment,
-};
+pub use segment::{Asperity, SegmentOptions, Segmentation, SummitFit, UNLABELLED, segment};
+pub use segment_split::split_wide_tops;
 pub use segment_window::{WindowFrame, WindowSegmentation, segment_window};
 pub use synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine};
