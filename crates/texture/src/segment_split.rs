@@ -11,10 +11,14 @@
 //! plateau as a patch of neighbouring punches coupled through the
 //! half-space.
 //!
-//! **Which basins.** A basin's *top* is its cells within `max_width / 16`
+//! **Which basins.** A basin's *top* is its cells within `max_width / 64`
 //! of its highest point; a top wider than `max_width` along x or y is split.
-//! A sphere's top is that wide from a radius of `2 max_width` up, so rounded
-//! chippings of a road (radii of a few millimetres) are never split.
+//! A sphere's top is that wide from a radius of `8 max_width` up: flat tops
+//! are split, rounded chippings (radii of a few millimetres to a few
+//! centimetres) are not. Cutting a dome is worse than keeping it whole: its
+//! pieces' summits all lie on the cuts beside its apex, point forces a cell
+//! apart (a chip seal split at 5 mm with a `/16` top, radii from 10 mm:
+//! approach 0.8 → 6.7 %, sensors 5 → 72 % against the BEM).
 //!
 //! **The pieces.** The top's bounding box is cut into `⌈extent / max_width⌉`
 //! equal tiles along each axis; every cell of the basin goes to its tile
@@ -44,7 +48,7 @@ use crate::segment::{Asperity, Segmentation, UNLABELLED, fit_summit};
 
 /// The depth below a basin's highest point (as a fraction of `max_width`)
 /// within which its cells form its top.
-const TOP_DEPTH_PER_WIDTH: f64 = 1.0 / 16.0;
+const TOP_DEPTH_PER_WIDTH: f64 = 1.0 / 64.0;
 
 /// A piece smaller than this fraction of a tile joins a neighbour.
 const SMALLEST_PIECE: f64 = 0.25;

@@ -25,11 +25,11 @@ fn mesa() -> HeightMap {
     .unwrap()
 }
 
-/// Two balls: R = 5 mm at x = 12 mm and R = 20 mm at x = 36 mm (y = 12
+/// Two balls: R = 20 mm at x = 10 mm and R = 40 mm at x = 34 mm (y = 12
 /// mm), each standing 1.5 mm above the ground.
 fn balls() -> HeightMap {
     HeightMap::from_fn(193, 97, CELL, CELL, |x, y| {
-        [(12e-3, 5e-3), (36e-3, 20e-3)]
+        [(10e-3, 20e-3), (34e-3, 40e-3)]
             .iter()
             .map(|&(cx, r)| {
                 let d2: f64 = (x - cx).powi(2) + (y - 12e-3).powi(2);
@@ -62,8 +62,8 @@ fn a_flat_mesa_is_tiled_with_each_force_at_its_tiles_middle() {
     assert_eq!(seg.asperities().len(), 1);
     let split = split_wide_tops(&seg, &map, 4e-3).unwrap();
     assert_partition(&split);
-    // The top (cells within 0.25 mm of it: the flat 24 × 12 mm and a
-    // side cell around, 24.75 × 12.75 mm) in 7 × 4 tiles, none smaller
+    // The top (cells within 62.5 µm of it: the flat 24 × 12 mm, 97 × 49
+    // cells, 24.25 × 12.25 mm of cell extent) in 7 × 4 tiles, none smaller
     // than a quarter of one.
     assert_eq!(split.asperities().len(), 28);
     let cells: usize = split.asperities().iter().map(|a| a.cells.len()).sum();
@@ -72,8 +72,8 @@ fn a_flat_mesa_is_tiled_with_each_force_at_its_tiles_middle() {
         assert!(pair[0].summit_height >= pair[1].summit_height);
     }
     // Each tile is touched at the middle of its flat cells, at the top's
-    // height, with no paraboloid (a plateau); the middles lie 3.5 mm
-    // (24.75 / 7) apart along x.
+    // height, with no paraboloid (a plateau); the middles lie 3.46 mm
+    // (24.25 / 7) apart along x.
     let mut xs = Vec::new();
     for a in split.asperities() {
         assert_eq!(a.summit_height, 1e-3);
@@ -104,30 +104,31 @@ fn a_flat_mesa_is_tiled_with_each_force_at_its_tiles_middle() {
     xs.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     assert_eq!(xs.len(), 7, "{xs:?}");
     for pair in xs.windows(2).skip(1).take(4) {
-        assert!((pair[1] - pair[0] - 24.75e-3 / 7.0).abs() < CELL, "{xs:?}");
+        assert!((pair[1] - pair[0] - 24.25e-3 / 7.0).abs() < CELL, "{xs:?}");
     }
 }
 
 #[test]
-fn rounded_summits_are_left_whole_unless_their_top_is_wider_than_the_width() {
+fn rounded_summits_are_left_whole_unless_flatter_than_eight_widths() {
     let map = balls();
     let seg = segment(&map, &opts()).unwrap();
     assert_eq!(seg.asperities().len(), 2);
-    // Tops within 0.5 mm of the summits: 2·√(2·5·0.5) = 4.5 mm and
-    // 2·√(2·20·0.5) = 8.9 mm wide.
-    let kept = split_wide_tops(&seg, &map, 8e-3).unwrap();
+    // Tops within 4 mm / 64 of the summits: 2·√(2·20·0.0625) = 3.2 mm and
+    // 2·√(2·40·0.0625) = 4.5 mm wide (a sphere is split from R = 8 w).
+    let kept = split_wide_tops(&seg, &map, 4e-3).unwrap();
     assert_eq!(
         kept.asperities().len(),
         5,
-        "the 20 mm ball's top in 2 x 2 tiles"
+        "the 40 mm ball's top in 2 x 2 tiles"
     );
-    let whole = split_wide_tops(&seg, &map, 10e-3).unwrap();
-    assert_eq!(whole, seg, "nothing wider than 10 mm: unchanged");
+    // At 6 mm: 2·√(2·40·0.094) = 5.5 mm.
+    let whole = split_wide_tops(&seg, &map, 6e-3).unwrap();
+    assert_eq!(whole, seg, "no top wider than 6 mm: unchanged");
     // The small ball is kept bit for bit when the large one is split.
     let small = |s: &Segmentation| {
         s.asperities()
             .iter()
-            .find(|a| (a.summit[0] - 12e-3).abs() < 1e-3)
+            .find(|a| (a.summit[0] - 10e-3).abs() < 1e-3)
             .cloned()
             .unwrap()
     };
