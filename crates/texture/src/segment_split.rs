@@ -75,8 +75,8 @@ pub fn split_wide_tops(
     }
     // Each asperity, and whether it is a new piece (to be fitted).
     let mut pieces: Vec<(Asperity, bool)> = Vec::with_capacity(seg.asperities().len());
-    for (id, a) in seg.asperities().iter().enumerate() {
-        match tiles_of(map, seg.labels(), id as u32, a, max_width) {
+    for a in seg.asperities() {
+        match tiles_of(map, a, max_width) {
             Some(cells) if cells.len() > 1 => {
                 pieces.extend(
                     cells
@@ -122,15 +122,9 @@ fn cell_of(a: &Asperity, nx: usize) -> usize {
     a.summit_cell.1 * nx + a.summit_cell.0
 }
 
-/// The cells of each piece of basin `id`, or `None` when its top is not
+/// The cells of each piece of basin `a`, or `None` when its top is not
 /// wider than `max_width`.
-fn tiles_of(
-    map: &HeightMap,
-    labels: &[u32],
-    id: u32,
-    a: &Asperity,
-    max_width: f64,
-) -> Option<Vec<Vec<usize>>> {
+fn tiles_of(map: &HeightMap, a: &Asperity, max_width: f64) -> Option<Vec<Vec<usize>>> {
     let (nx, ny) = (map.nx(), map.ny());
     let (h, valid) = (map.heights(), map.valid());
     let (dx, dy) = (map.dx(), map.dy());
@@ -182,7 +176,7 @@ fn tiles_of(
         queue.push_back(c0);
         while let Some(c) = queue.pop_front() {
             for n in neighbours(c, nx, ny) {
-                if labels[n] != id || tile(n) != t {
+                if tile(n) != t {
                     continue;
                 }
                 let Some(k) = index(n) else { continue };
@@ -198,22 +192,24 @@ fn tiles_of(
     // Small pieces, and pieces without a cell of the top, join the
     // neighbouring piece with the highest point, smallest first, until
     // none is left or one piece remains.
-    let highest = |cells: &[usize]| {
-        cells
-            .iter()
-            .filter(|&&c| valid[c])
-            .map(|&c| h[c])
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
+    // Each piece's highest point, kept up to date through the merges.
+    let mut peak: Vec<f64> = pieces
+        .iter()
+        .map(|cells| {
+            cells
+                .iter()
+                .filter(|&&c| valid[c])
+                .map(|&c| h[c])
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .collect();
     let smallest = SMALLEST_PIECE * wx * wy / (dx * dy);
     let mut alive: Vec<bool> = vec![true; pieces.len()];
     loop {
         // A piece below the top (a stretch of flank or ground cut off by
         // another basin within its tile) is no piece of the top either.
         let candidate = (0..pieces.len())
-            .filter(|&p| {
-                alive[p] && ((pieces[p].len() as f64) < smallest || highest(&pieces[p]) < floor)
-            })
+            .filter(|&p| alive[p] && ((pieces[p].len() as f64) < smallest || peak[p] < floor))
             .min_by_key(|&p| (pieces[p].len(), p));
         let Some(p) = candidate else { break };
         if alive.iter().filter(|&&x| x).count() == 1 {
@@ -224,10 +220,10 @@ fn tiles_of(
             for n in neighbours(c, nx, ny) {
                 let Some(k) = index(n) else { continue };
                 let q = piece_of[k];
-                if q == p || labels[n] != id {
+                if q == p {
                     continue;
                 }
-                let hq = highest(&pieces[q]);
+                let hq = peak[q];
                 if best.is_none_or(|(hb, b)| hq > hb || (hq == hb && q < b)) {
                     best = Some((hq, q));
                 }
@@ -246,6 +242,7 @@ fn tiles_of(
             }
         }
         pieces[q].extend(moved);
+        peak[q] = peak[q].max(peak[p]);
         alive[p] = false;
     }
     let mut out: Vec<Vec<usize>> = pieces.into_iter().filter(|p| !p.is_empty()).collect();
