@@ -5,7 +5,7 @@
 //! and measured against the project's BEM rolling reference.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use tyreroad::bem_rolling::{BemRollingOptions, roll_bem, texture_field};
 use tyreroad::contact_law::{ContactLaw, Material};

@@ -4,7 +4,7 @@
 //! measured against the project's BEM rolling reference.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use tyreroad::bem_rolling::{BemRollingOptions, BemRollingResult, roll_bem, texture_field};
 use tyreroad::contact_law::Material;

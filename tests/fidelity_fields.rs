@@ -7,7 +7,7 @@
 //! BEM on 240 × 240 cells at two loads and three ridge calibrations.)
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::compare::{CompareOptions, compare_texture};

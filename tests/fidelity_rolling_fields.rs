@@ -6,7 +6,7 @@
 //! point that does not settle recorded as its step's failure.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use tyreroad::bem_rolling::{BemRollingOptions, roll_bem, texture_field};
 use tyreroad::contact_law::Material;

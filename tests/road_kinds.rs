@@ -1,7 +1,7 @@
 //! Every hard road kind survives the pipeline: segmentation into
 //! asperities, one tabulated law per asperity ([`texture_road`]), and a
 //! flat-block static multipoint contact at 50, 150 and 300 N that balances
-//! the load. `cargo test --test road_kinds -- --nocapture` prints, per kind
+//! the load. `cargo test --test integration road_kinds:: -- --nocapture` prints, per kind
 //! and load, the asperities, Newton iterations, load steps and residual
 //! (docs/texture.md has the table).
 

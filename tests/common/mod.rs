@@ -1,5 +1,5 @@
 //! Test maps shared by the integration tests (a test file takes them with
-//! `mod common;`).
+//! `use crate::common;`).
 
 use tyreroad::contact_law::Material;
 use tyreroad::fidelity::rolling::{calibrate_rolling_road_under, calibrated_rolling_road};

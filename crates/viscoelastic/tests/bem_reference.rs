@@ -10,7 +10,7 @@ use tyreroad_viscoelastic::{
     Receding, SphereField, compare_on_spheres, compare_on_spheres_with, ramp_hold_unload,
 };
 
-mod support;
+use crate::support;
 use support::tread;
 
 fn field() -> SphereField {

@@ -6,7 +6,7 @@ use tyreroad_contact_law::{HertzLaw, Material};
 use tyreroad_multipoint::{Control, Problem, SolverOptions, solve};
 use tyreroad_viscoelastic::{Hereditary, lee_radok_ramp_force, run_load_history};
 
-mod support;
+use crate::support;
 use support::{tread, twenty_five_balls};
 
 #[test]

@@ -15,7 +15,7 @@ use tyreroad_viscoelastic::{
     ViscoError, ViscoRollOptions, ViscoRolling, ViscoStart, roll_viscoelastic,
 };
 
-mod support;
+use crate::support;
 use support::tread;
 
 /// 0.15 × 0.05 m of random spherical summits (radii 2–5 mm, heights over

@@ -26,7 +26,7 @@ use tyreroad_viscoelastic::{
     Prony, ViscoRollOptions, roll_viscoelastic, roll_viscoelastic_coupled,
 };
 
-mod support;
+use crate::support;
 use support::tread;
 
 type Law = PotentialLaw<Sphere>;

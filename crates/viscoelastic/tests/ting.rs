@@ -11,7 +11,7 @@ use tyreroad_viscoelastic::{
     Hereditary, Prony, Receding, ViscoError, ramp_hold_unload, run_load_history_with,
 };
 
-mod support;
+use crate::support;
 use support::{tread, twenty_five_balls};
 
 const TING: Receding = Receding::Ting { per_decade: 20 };

@@ -10,7 +10,7 @@ use tyreroad_viscoelastic::{
     Comparison, Receding, SphereField, compare_on_spheres_with, ramp_hold_unload,
 };
 
-mod support;
+use crate::support;
 use support::tread;
 
 /// One sphere, R = 20 mm, 0.25 mm BEM cells (the contact spans ~40 cells).

@@ -11,7 +11,7 @@ use tyreroad_rolling::{
 };
 use tyreroad_viscoelastic::{Receding, ViscoRollOptions, ViscoRolling, roll_viscoelastic};
 
-mod support;
+use crate::support;
 use support::tread;
 
 /// 0.15 × 0.05 m of random spherical summits, laws on `material`.

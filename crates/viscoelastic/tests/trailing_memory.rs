@@ -16,7 +16,7 @@ use tyreroad_multipoint::AsperitySet;
 use tyreroad_rolling::{Road, RollingConfig, RollingControl, Tread};
 use tyreroad_viscoelastic::{TrailingMemory, ViscoRollOptions, ViscoRolling, roll_viscoelastic};
 
-mod support;
+use crate::support;
 use support::tread;
 
 const FIRST: f64 = 0.05;
