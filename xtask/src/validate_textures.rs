@@ -111,6 +111,12 @@ pub struct TextureArgs {
     /// rebuilds each cap alone (the tables measured before session 9).
     #[arg(long, default_value_t = 2)]
     pub neighbour_passes: usize,
+    /// With `--textures`: split each basin whose flat top is wider than this
+    /// (mm) into tiles, one asperity each (`[texture] max_cap_width`,
+    /// docs/texture.md "Wide tops split into tiles"); whole basins when
+    /// absent.
+    #[arg(long)]
+    pub max_cap_width: Option<f64>,
 }
 
 /// Runs the texture validation; fails only if a case cannot be run at all
@@ -138,9 +144,16 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
             .collect::<Result<_, _>>()
             .context("--rungs")?
     };
+    let mut road = tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6);
+    if let Some(mm) = args.max_cap_width {
+        if !(mm.is_finite() && mm > 0.0) {
+            bail!("--max-cap-width {mm}: expected a width > 0 in mm");
+        }
+        road.max_cap_width = Some(1e-3 * mm);
+    }
     let options = CompareOptions {
         loads: LOADS.to_vec(),
-        road: tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6),
+        road,
         calibration: CalibrationOptions::default(),
         rungs: rungs.clone(),
         solver: SolverOptions::default(),
@@ -148,6 +161,13 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     };
     let mut results = Vec::new();
     let mut report = String::new();
+    if let Some(mm) = args.max_cap_width {
+        writeln!(
+            report,
+            "Wide flat tops split into tiles of at most {mm} mm (`[texture] max_cap_width`)."
+        )?;
+        say!("{report}");
+    }
     let segmentation_rung: Fidelity = args
         .segmentation_rung
         .trim()
