@@ -16,6 +16,7 @@ Run from the repository root: `python -m pytest tests/python -q` (CI: .ci/run).
 """
 
 import csv
+import os
 import subprocess
 import tomllib
 from pathlib import Path
@@ -63,9 +64,16 @@ def quantity(text: str) -> float:
 
 
 def xtask_run(scenario: Path, out: Path) -> None:
-    """`cargo xtask run SCENARIO --out OUT` from the repository root."""
+    """`cargo xtask run SCENARIO --out OUT` from the repository root.
+
+    With TYREROAD_XTASK set (CI: the binary that `cargo test --workspace`
+    has just built), that executable instead of `cargo xtask`, which would
+    build the whole workspace once more in the dev profile.
+    """
+    xtask = os.environ.get("TYREROAD_XTASK")
+    runner = [xtask] if xtask else ["cargo", "xtask"]
     done = subprocess.run(
-        ["cargo", "xtask", "run", str(scenario), "--out", str(out)],
+        [*runner, "run", str(scenario), "--out", str(out)],
         cwd=ROOT,
         capture_output=True,
         text=True,
