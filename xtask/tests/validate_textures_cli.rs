@@ -1,6 +1,7 @@
 //! `cargo xtask validate --textures` refuses an unknown rung name, in
 //! `--rungs` or `--segmentation-rung`, before it builds a road or runs a
-//! BEM, and names the option.
+//! BEM, and names the option; so does `--max-cap-width` with a width that
+//! is not a positive number.
 
 use std::process::Command;
 
@@ -37,5 +38,16 @@ fn an_unknown_rung_name_is_refused_by_its_option() {
             stderr.contains(option) && stderr.contains("fancy"),
             "{option}: {stderr}"
         );
+    }
+}
+
+#[test]
+fn a_tile_width_that_is_not_positive_is_refused_by_max_cap_width() {
+    for width in ["0", "-2", "nan", "inf"] {
+        let option = format!("--max-cap-width={width}");
+        let out = validate_textures(&[&option]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{option} exited 0");
+        assert!(stderr.contains("--max-cap-width"), "{option}: {stderr}");
     }
 }
