@@ -1,10 +1,11 @@
 //! Tidiness of the tree itself, in the manner of rust-analyzer's `tidy`:
-//! the crate layering, the size of source files, and references from code
-//! and docs to files that exist.
+//! the crate layering, the size of source files, references from code
+//! and docs to files that exist, and test files that their test binary
+//! compiles.
 //!
 //! These tests read the repository, not the model: they fail when a change
-//! adds an upward crate edge, a file too long to hold in mind, or a pointer
-//! to a document that is not there.
+//! adds an upward crate edge, a file too long to hold in mind, a pointer
+//! to a document that is not there, or a test file that would never run.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -283,5 +284,61 @@ fn the_reference_scanner_finds_paths_and_links() {
             root().join("docs/theory.md"),
             root().join("docs").join("../README.md")
         ]
+    );
+}
+
+/// A package with `autotests = false` builds its tests from
+/// `tests/integration.rs` alone (ARCHITECTURE.md, "Workspace level"): a test
+/// file there without its `mod` line would never be compiled nor run, and
+/// nothing else would say so.
+#[test]
+fn every_test_file_is_a_module_of_its_integration_binary() {
+    let mut manifests = vec![root().join("Cargo.toml"), root().join("xtask/Cargo.toml")];
+    for entry in fs::read_dir(root().join("crates"))
+        .expect("crates/ is readable")
+        .flatten()
+    {
+        manifests.push(entry.path().join("Cargo.toml"));
+    }
+    let mut merged = 0;
+    let mut missing = Vec::new();
+    for manifest in manifests {
+        let Ok(text) = fs::read_to_string(&manifest) else {
+            continue;
+        };
+        if !text.lines().any(|l| l.trim() == "autotests = false") {
+            continue;
+        }
+        merged += 1;
+        let tests = manifest
+            .parent()
+            .expect("a manifest is in a folder")
+            .join("tests");
+        let hub = fs::read_to_string(tests.join("integration.rs")).expect("tests/integration.rs");
+        let declared: BTreeSet<&str> = hub
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("mod ")?.strip_suffix(';'))
+            .collect();
+        for entry in fs::read_dir(&tests).expect("tests/ is readable").flatten() {
+            let path = entry.path();
+            let module = if path.is_dir() && path.join("mod.rs").is_file() {
+                entry.file_name().to_string_lossy().into_owned()
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                path.file_stem()
+                    .expect("a file name")
+                    .to_string_lossy()
+                    .into_owned()
+            } else {
+                continue;
+            };
+            if module != "integration" && !declared.contains(module.as_str()) {
+                missing.push(path.display().to_string());
+            }
+        }
+    }
+    assert_eq!(merged, 5, "packages with one integration binary");
+    assert!(
+        missing.is_empty(),
+        "not a `mod` of tests/integration.rs: {missing:?}"
     );
 }
