@@ -38,7 +38,7 @@ use crate::two_scale::{LocalShape, TwoScale, TwoScaleOptions, two_scale_solution
 use super::coupling::{FieldCouplingOptions, solve_field_coupled};
 use super::{
     CacheCounts, CalibrationOptions, Calibrator, Coupling, Fidelity, FidelityError, LawSource,
-    calibrated_set,
+    calibrated_set, solve_calibrated,
 };
 
 /// Block sizes of the block metrics (m).
@@ -462,8 +462,15 @@ pub fn compare_texture(
                     .map(|f| (f.solution, f.rounds))
                     .map_err(|e| e.to_string())
                 };
+                // Tiles of one plateau are one body (super::joint): the
+                // point kernel between them is cancelled.
+                let tiled = |control| {
+                    solve_calibrated(&problem, control, &rung.solver, None)
+                        .map(|s| (s, 0))
+                        .map_err(|e| e.to_string())
+                };
                 let solve_load: Option<&SolveLoad<'_>> = match rung.coupling {
-                    Coupling::Solver => None,
+                    Coupling::Solver => Some(&tiled),
                     Coupling::Fields => Some(&fields),
                 };
                 let r = run_rung(

@@ -28,6 +28,11 @@
 //! `tolerance × scale` (the load, or the total force under approach
 //! control) between rounds. Each round's solve converges to the solver's
 //! tolerance; the fixed point is the consistent state.
+//!
+//! Tiles of one body ([`super::joint`]) hold their mutual coupling in their
+//! tables: between them `C_ij = −1/(π E* r_ij)` cancels the point kernel
+//! whole, whatever their distance (in the rolling correction, between the
+//! pairs it visits: rolling laws are calibrated alone and carry no body).
 
 use rayon::prelude::*;
 
@@ -35,7 +40,7 @@ use super::field::{UnitField, centroid_and_reach, field_compliance};
 use super::pair_sum::{PackedField, packed_compliance};
 use super::{CalibratedLaw, FidelityError};
 use crate::multipoint::{
-    Control, PairCorrection, Problem, Solution, SolverOptions, solve_corrected, solve_from,
+    Control, PairCorrection, Problem, Solution, SolverOptions, solve_corrected,
 };
 
 /// Pairs whose field coupling differs from the point kernel by less than
@@ -127,7 +132,8 @@ pub fn field_correction(
         ));
     }
     let positions = problem.positions();
-    let fields = placed_fields(problem.laws().iter(), positions, depths)?;
+    let laws = problem.laws();
+    let fields = placed_fields(laws.iter(), positions, depths)?;
     let factor = problem.material().boussinesq_factor();
     let rows: Vec<Vec<(usize, usize, f64, bool)>> = (0..n)
         .into_par_iter()
@@ -139,6 +145,10 @@ pub fn field_correction(
                     (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
                 if r == 0.0 {
                     // Coincident summits have no point coupling to correct.
+                    continue;
+                }
+                if same_body(&laws[i], &laws[j]) {
+                    row.push((i, j, -factor / r, true));
                     continue;
                 }
                 let near = r < reach * (ri + rj);
@@ -192,7 +202,7 @@ pub fn solve_field_coupled(
     initial: Option<&Solution>,
 ) -> Result<FieldSolution, FidelityError> {
     options.validate()?;
-    let mut s = solve_from(problem, control, solver, initial)?;
+    let mut s = super::solve_calibrated(problem, control, solver, initial)?;
     let scale = match control {
         Control::Load(w) => w,
         Control::Approach(_) => s.forces.iter().sum(),
@@ -343,7 +353,14 @@ pub fn sparse_field_correction(
         let r2 = dx * dx + dy * dy;
         let far = reach.far * (ri + rj);
         // Coincident points have no point coupling to correct.
-        if r2 == 0.0 || r2 >= far * far {
+        if r2 == 0.0 {
+            return;
+        }
+        if same_body(laws[i], laws[j]) {
+            row.push((i.min(j), i.max(j), -factor / r2.sqrt(), true));
+            return;
+        }
+        if r2 >= far * far {
             return;
         }
         let r = r2.sqrt();
@@ -433,6 +450,12 @@ fn centroid_compliance(a: &PlacedField, b: &PlacedField) -> f64 {
 /// and whose fields couple by `g` (1/m: the double sum of a near pair, the
 /// centroids' of a farther one); `None` where `g` is the point kernel to
 /// [`NEGLIGIBLE`] (or not finite).
+/// Whether two laws are tiles of one body ([`super::joint`]): their tables
+/// hold their coupling, which the correction then cancels whole.
+fn same_body(a: &CalibratedLaw, b: &CalibratedLaw) -> bool {
+    a.body().is_some() && a.body() == b.body()
+}
+
 fn pair_correction(g: f64, r: f64, factor: f64) -> Option<f64> {
     ((g * r - 1.0).abs() >= NEGLIGIBLE && g.is_finite()).then(|| factor * (g - 1.0 / r))
 }

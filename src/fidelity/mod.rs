@@ -39,6 +39,7 @@ mod calibrate;
 pub mod compare;
 pub mod coupling;
 pub mod field;
+pub mod joint;
 pub mod pair_sum;
 pub mod rolling;
 pub mod rolling_fields;
@@ -52,8 +53,10 @@ use std::str::FromStr;
 
 pub use calibrate::{
     CacheCounts, CalibratedLaw, CalibratedTable, CalibrationOptions, CalibrationStats, Calibrator,
-    CapPatch, HEIGHT_QUANTUM, PathNode, WarmStart, calibrate, calibrate_with_fields,
+    CapPatch, HEIGHT_QUANTUM, JointTile, PathNode, WarmStart, calibrate, calibrate_joint,
+    calibrate_with_fields,
 };
+pub use joint::{body_correction, solve_calibrated};
 pub use texture::{CapFallback, calibrated_set, calibrated_set_or_wilke, cap_patch};
 
 use crate::multipoint::{Clusters, Interaction, SolverOptions};

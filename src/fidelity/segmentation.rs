@@ -100,7 +100,12 @@ pub fn segmentation_spread(
                 let set = calibrated_set(&road, map, APPROACH_MARGIN * deepest, calibrator)?;
                 let problem = Problem::from_set(set, material)?;
                 let solve_one = |w| match rung.coupling {
-                    Coupling::Solver => Ok(solve(&problem, Control::Load(w), &rung.solver)?),
+                    Coupling::Solver => Ok(super::solve_calibrated(
+                        &problem,
+                        Control::Load(w),
+                        &rung.solver,
+                        None,
+                    )?),
                     Coupling::Fields => Ok(solve_field_coupled(
                         &problem,
                         Control::Load(w),

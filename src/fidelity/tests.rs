@@ -290,3 +290,130 @@ fn the_default_options_give_the_reference_table_and_their_own_cache_entries() {
     assert_eq!(other.counts().solved, 1);
     assert_eq!(other.counts().disk_hits, 0);
 }
+
+/// A flat top tilted by 10 µm/mm along x (2.4 × 1.6 mm, falling away at
+/// 0.2 mm/mm beyond it) on 0.05 mm cells, cut at x = 0 into a west tile
+/// (its summit the patch's) and an east one (its summit 2.5 µm lower).
+fn tilted_top_in_two() -> (CapPatch, Vec<JointTile>) {
+    let top = |x: f64, y: f64| {
+        let out = (x.abs() - 1.2e-3).max(0.0).max((y.abs() - 0.8e-3).max(0.0));
+        (-0.01 * (x + 1.2e-3) - 0.2 * out).min(0.0)
+    };
+    let patch = CapPatch::from_fn(61, 5e-5, top).unwrap();
+    let west: Vec<bool> = (0..61 * 61)
+        .map(|k| ((k % 61) as f64 - 30.0) * 5e-5 < 0.0)
+        .collect();
+    let east: Vec<bool> = west.iter().map(|w| !w).collect();
+    // The east tile's highest cell: the first cell of x >= 0.
+    let below_east = -top(0.0, 0.0);
+    (
+        patch,
+        vec![
+            JointTile {
+                cells: west,
+                below: 0.0,
+            },
+            JointTile {
+                cells: east,
+                below: below_east,
+            },
+        ],
+    )
+}
+
+/// Conservation: at every depth of the sweep the tiles' forces and areas,
+/// each read in its own depth, sum to the whole cap's (the same BEM
+/// solves, split by cells); each tile's law is zero up to its own summit.
+#[test]
+fn tiles_of_one_body_sum_to_the_whole_cap_at_every_depth() {
+    let m = material();
+    let options = CalibrationOptions::default();
+    let (patch, tiles) = tilted_top_in_two();
+    let whole = calibrate(&patch, 0.1e-3, &m, &options).unwrap();
+    let parts = calibrate_joint(&patch, 0.1e-3, &m, &options, true, &tiles).unwrap();
+    assert_eq!(parts.len(), 2);
+    let mut checked = 0;
+    for (d, f, a) in whole.knots().filter(|k| k.0 > tiles[1].below) {
+        let sum_f: f64 = parts
+            .iter()
+            .zip(&tiles)
+            .map(|(p, t)| p.force_at(d - t.below).0)
+            .sum();
+        let sum_a: f64 = parts
+            .iter()
+            .zip(&tiles)
+            .map(|(p, t)| p.area_at(d - t.below))
+            .sum();
+        assert!((sum_f - f).abs() < 1e-9 * f, "δ = {d}: {sum_f} vs {f}");
+        assert!((sum_a - a).abs() < 1e-9 * a, "δ = {d}: {sum_a} vs {a}");
+        // Both halves carry load once the tilt is pressed flat.
+        if d > 0.05e-3 {
+            assert!(parts.iter().all(|p| p.force_at(d).0 > 0.05 * f));
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "{checked} knots compared");
+    for (p, t) in parts.iter().zip(&tiles) {
+        let law = CalibratedLaw::new(std::sync::Arc::new(p.clone())).in_body(7);
+        assert_eq!(law.body(), Some(7));
+        assert_eq!(law.force(0.0), 0.0);
+        assert_eq!(law.force(-1e-6), 0.0);
+        assert!(p.field().is_some());
+        // The lower tile's table ends deeper below its own summit by as
+        // much as its summit lies below the body's.
+        assert!((p.max_depth() + t.below - whole.max_depth()).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn a_tile_that_is_not_the_patchs_size_or_lies_above_the_summit_is_refused() {
+    let m = material();
+    let options = CalibrationOptions::default();
+    let (patch, mut tiles) = tilted_top_in_two();
+    tiles[0].cells.pop();
+    let e = calibrate_joint(&patch, 0.1e-3, &m, &options, false, &tiles).unwrap_err();
+    assert!(e.to_string().contains("tile cells"), "{e}");
+    let (patch, mut tiles) = tilted_top_in_two();
+    tiles[1].below = -1e-6;
+    let e = calibrate_joint(&patch, 0.1e-3, &m, &options, false, &tiles).unwrap_err();
+    assert!(e.to_string().contains("tile summit depth"), "{e}");
+}
+
+/// The point kernel between tiles of one body is cancelled (their tables
+/// hold that coupling) and kept to every other asperity: two tiles of one
+/// body at a common height carry the load where their laws' sum does,
+/// whatever their distance.
+#[test]
+fn tiles_of_one_body_are_not_coupled_again_and_others_are() {
+    use crate::multipoint::{Control, Problem, SolverOptions};
+    let m = material();
+    let table = std::sync::Arc::new(
+        calibrate(&paraboloid(), 0.2e-3, &m, &CalibrationOptions::default()).unwrap(),
+    );
+    let law = CalibratedLaw::new(std::sync::Arc::clone(&table));
+    let laws = vec![law.clone().in_body(3), law.clone().in_body(3), law];
+    let positions = vec![[0.0, 0.0], [4e-3, 0.0], [40e-3, 0.0]];
+    let problem = Problem::new(positions, vec![0.0, 0.0, 1.0e-3], laws, m).unwrap();
+    let c = body_correction(&problem).unwrap();
+    let f = m.boussinesq_factor();
+    assert_eq!(c.pairs(), &[(0, 1, -f / 4e-3)]);
+    let s = solve_calibrated(
+        &problem,
+        Control::Load(2.0),
+        &SolverOptions::default(),
+        None,
+    )
+    .unwrap();
+    // The third cap stands 1 mm lower: out of contact.
+    assert_eq!(s.forces[2], 0.0);
+    let one = CalibratedLaw::new(table);
+    let want = one.depth_for(1.0);
+    assert!((s.approach - want).abs() < 1e-9, "{} vs {want}", s.approach);
+    // The rungs that a corrected solve cannot run are refused by name.
+    let distributed = SolverOptions {
+        interaction: crate::multipoint::Interaction::DISTRIBUTED,
+        ..SolverOptions::default()
+    };
+    let e = solve_calibrated(&problem, Control::Load(2.0), &distributed, None).unwrap_err();
+    assert!(e.to_string().contains("split into tiles"), "{e}");
+}

@@ -138,19 +138,36 @@ fn calibrated_set_on(
     on_failure: OnCapFailure,
 ) -> Result<(AsperitySet<CalibratedLaw>, Vec<CapFallback>), FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
-    let laws = calibrated_laws(
+    // Tiles of one plateau as one body (super::joint); the rest alone.
+    let mut bodies = super::joint::body_laws(road, map, max_approach, calibrator, &all);
+    let alone: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&i| bodies[i].is_none())
+        .collect();
+    let mut laws = calibrated_laws(
         road,
         map,
         max_approach,
         calibrator,
-        (&all, &[]),
+        (&alone, &[]),
         &CapShape::Flat,
         on_failure,
     )?;
+    // Back to road order; a fallback's id is its position among `alone`.
+    for f in &mut laws.fallbacks {
+        f.id = alone[f.id];
+    }
+    let mut alone_laws = laws.laws.into_iter().map(|(law, _)| law);
+    let merged: Vec<CalibratedLaw> = bodies
+        .iter_mut()
+        .map(|body| body.take().or_else(|| alone_laws.next()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| FidelityError::invalid("calibrated laws", "fewer", "one per asperity"))?;
     let set = AsperitySet::new(
         road.set.positions().to_vec(),
         road.set.heights().to_vec(),
-        laws.laws.into_iter().map(|(law, _)| law).collect(),
+        merged,
     )
     .map_err(FidelityError::Solve)?;
     // A static run's indenters are 1-based.
@@ -214,7 +231,7 @@ pub(crate) struct CalibratedLaws {
 
 /// How far (m) `a`'s summit stands above its highest valid cell (0 for a
 /// summit on a cell, or when no cell is valid: `cap_patch` says so).
-fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
+pub(super) fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
     let highest = a
         .cells
         .iter()
@@ -335,9 +352,7 @@ pub(super) fn calibrated_laws_by(
             // faceted top: the range must reach the highest cell (and as
             // far past it as the summit stands above it), or the cap has
             // no cell to calibrate.
-            let depth = (max_approach - (top - z) - lift)
-                .max(0.1 * max_approach)
-                .max(2.0 * top_cell_offset(map, a));
+            let depth = super::joint::table_depth(map, a, z - lift, top, max_approach);
             let calibrated = shape.patch(map, a, i, depth).and_then(|shaped| {
                 let patch = shaped.patch;
                 // A cap raised to touch where its shape says is pressed

@@ -18,7 +18,7 @@ use crate::fidelity::rolling::{PastTables, calibrate_rolling_road_under};
 use crate::fidelity::table_depth::TablePlan;
 use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, CapFallback, Coupling, FidelityError, LawSource,
-    calibrated_set_or_wilke,
+    calibrated_set_or_wilke, solve_calibrated,
 };
 use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, rolling_road, texture_road};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
@@ -291,8 +291,21 @@ pub(crate) fn run_texture_static(
             let problem =
                 Problem::from_set(set, material).map_err(as_problem("[texture] asperities"))?;
             match rung.coupling {
+                // Tiles of one plateau are one body (crate::fidelity::joint):
+                // the point kernel between them is cancelled.
                 Coupling::Solver => {
-                    run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+                    run_static_problem_with(&scenario.name, &problem, &ids, &loads, |load| {
+                        match solve_calibrated(&problem, Control::Load(load), &rung.solver, None) {
+                            Ok(s) => Ok(Ok(s)),
+                            Err(e @ FidelityError::Solve(SolveError::NotConverged { .. })) => {
+                                Ok(Err(e.to_string()))
+                            }
+                            Err(e) => Err(ScenarioError::Invalid(format!(
+                                "{}: solving at {load} N: {e}",
+                                scenario.name
+                            ))),
+                        }
+                    })?
                 }
                 // Each load its own fixed point of the field coupling
                 // (crate::fidelity::coupling), warm-started from the

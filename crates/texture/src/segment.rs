@@ -66,6 +66,11 @@ pub struct Asperity {
     /// grid bears its vertex out (not pulled up by a cliff or a pore wall
     /// in its window, docs/texture.md "Summits").
     pub fit: Option<SummitFit>,
+    /// For a piece of a split top ([`crate::split_wide_tops`]): the index,
+    /// in the segmentation that was split, of the basin it was cut from.
+    /// Pieces with the same `plateau` are one body cut into tiles (a
+    /// caller may calibrate them together); `None` for a basin kept whole.
+    pub plateau: Option<usize>,
 }
 
 /// A height map split into asperities (basins of the inverted surface).
@@ -288,6 +293,7 @@ pub(crate) fn flood(
             cells,
             floor,
             fit: None,
+            plateau: None,
         });
     }
     for (id, a) in asperities.iter_mut().enumerate() {

@@ -36,7 +36,9 @@
 //! pieces partition the basin); a basin that is not split is returned
 //! unchanged (its cells, summit, fit and prominence); the pieces depend on
 //! the basin's cells and heights only, not on where the map's window lies;
-//! asperities stay ordered highest summit first.
+//! asperities stay ordered highest summit first; every piece of a split
+//! basin names it ([`Asperity::plateau`], its index in the input), a basin
+//! kept whole names none.
 
 use std::collections::VecDeque;
 
@@ -75,14 +77,14 @@ pub fn split_wide_tops(
     }
     // Each asperity, and whether it is a new piece (to be fitted).
     let mut pieces: Vec<(Asperity, bool)> = Vec::with_capacity(seg.asperities().len());
-    for a in seg.asperities() {
+    for (k, a) in seg.asperities().iter().enumerate() {
         match tiles_of(map, a, max_width) {
             Some(cells) if cells.len() > 1 => {
-                pieces.extend(
-                    cells
-                        .into_iter()
-                        .map(|c| (piece(map, seg.origin, a.floor, c), true)),
-                );
+                pieces.extend(cells.into_iter().map(|c| {
+                    let mut tile = piece(map, seg.origin, a.floor, c);
+                    tile.plateau = Some(k);
+                    (tile, true)
+                }));
             }
             _ => pieces.push((a.clone(), false)),
         }
@@ -299,5 +301,6 @@ fn piece(map: &HeightMap, origin: usize, floor: f64, cells: Vec<usize>) -> Asper
         cells,
         floor,
         fit: None,
+        plateau: None,
     }
 }

@@ -78,6 +78,11 @@ fn a_flat_mesa_is_tiled_with_each_force_at_its_tiles_middle() {
     for a in split.asperities() {
         assert_eq!(a.summit_height, 1e-3);
         assert!(a.fit.is_none());
+        assert_eq!(
+            a.plateau,
+            Some(0),
+            "every tile names the mesa it was cut from"
+        );
         let flat: Vec<usize> = a
             .cells
             .iter()
@@ -133,6 +138,18 @@ fn rounded_summits_are_left_whole_unless_flatter_than_eight_widths() {
             .unwrap()
     };
     assert_eq!(small(&kept), small(&seg));
+    assert_eq!(
+        small(&kept).plateau,
+        None,
+        "a basin kept whole names no plateau"
+    );
+    // The large ball's four tiles name its basin in the input.
+    let large = seg
+        .asperities()
+        .iter()
+        .position(|a| (a.summit[0] - 34e-3).abs() < 1e-3);
+    let tiles = kept.asperities().iter().filter(|a| a.plateau == large);
+    assert_eq!(tiles.count(), 4);
     assert_partition(&kept);
 }
 

@@ -203,6 +203,7 @@ impl CalibratedLaw {
             table: Arc::clone(&parts[main].table),
             origin: parts[main].origin,
             along: Some(Along::Blend(parts)),
+            body: self.body,
         })
     }
 
