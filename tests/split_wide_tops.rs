@@ -168,3 +168,63 @@ fn a_split_mesa_pressed_level_carries_the_load_as_the_whole_mesa() -> TestResult
     }
     Ok(())
 }
+
+/// The same through a scenario file, as a user runs it: a static run of
+/// the split mesa with each calibrated rung balances its load and lands
+/// on the whole mesa's approach; `clustered` is refused by name.
+#[test]
+fn a_static_scenario_of_the_split_mesa_runs_each_calibrated_rung() -> TestResult {
+    use tyreroad::scenario::{RunOptions, ScenarioResult};
+    let dir = tempfile::tempdir()?;
+    write_ascii_grid(&mesa(), dir.path().join("mesa.asc"))?;
+    let text = |fidelity: &str, split: &str| {
+        format!(
+            "name = \"mesa\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [model]\nfidelity = \"{fidelity}\"\n[static]\nloads = [\"20 N\"]\n\
+             [texture]\nfile = \"mesa.asc\"\nmin_prominence = \"0.2 mm\"\nmin_area = \"2 mm2\"\n{split}"
+        )
+    };
+    let run = |fidelity: &str, split: &str| -> Result<_, Box<dyn std::error::Error>> {
+        let s = Scenario::parse(&text(fidelity, split), "mesa")?;
+        let ScenarioResult::Texture(r) = s.run(&RunOptions::new(dir.path()))? else {
+            return Err("not a texture result".into());
+        };
+        Ok(r.statics)
+    };
+    let whole = run("calibrated", "")?;
+    for fidelity in ["calibrated", "calibrated_fields"] {
+        let split = run(fidelity, "max_cap_width = \"4 mm\"\n")?;
+        assert!(
+            split.failed_loads.is_empty(),
+            "{fidelity}: {:?}",
+            split.failed_loads
+        );
+        for (a, b) in whole.runs.iter().zip(&split.runs) {
+            let total: f64 = split.at_load(b.load).iter().map(|r| r.force).sum();
+            assert!(
+                (total - b.load).abs() < 1e-6 * b.load,
+                "{fidelity}: {total}"
+            );
+            // One asperity and 28 tiles of one body: the same approach (to
+            // the field coupling's settling for `calibrated_fields`).
+            assert!(
+                (b.approach - a.approach).abs() < 1e-4 * a.approach,
+                "{fidelity} at {} N: {} vs {} m",
+                b.load,
+                b.approach,
+                a.approach
+            );
+        }
+    }
+    // Forced clusters cannot be formed on a solve that cancels the tiles'
+    // kernel: the run is refused by name, not answered wrongly.
+    let clustered = run("clustered", "max_cap_width = \"4 mm\"\n");
+    assert!(
+        clustered
+            .as_ref()
+            .is_err_and(|e| e.to_string().contains("split into tiles")),
+        "{:?}",
+        clustered.map(|s| s.runs.len())
+    );
+    Ok(())
+}
