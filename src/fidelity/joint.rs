@@ -23,11 +23,14 @@
 //!
 //! Invariants: a road without split tops is calibrated exactly as before
 //! (same tables, no correction); every tile of a body gets a table from
-//! the same sweep; a body whose sweep fails falls back to calibrating its
-//! tiles alone.
+//! the same sweep; a body whose sweep fails is the set's error where a
+//! failed cap is ([`super::calibrated_set`]), and where a cap keeps its
+//! Wilke law instead ([`super::calibrated_set_or_wilke`], a user's run) its
+//! tiles are calibrated alone, each with its own fallback.
 
 use std::sync::Arc;
 
+use super::texture::OnCapFailure;
 use super::{CalibratedLaw, Calibrator, FidelityError, JointTile, cap_patch};
 use crate::multipoint::{
     Clusters, Control, Interaction, PairCorrection, Problem, Solution, SolverOptions,
@@ -117,18 +120,27 @@ pub(super) fn table_depth(
         .max(2.0 * super::texture::top_cell_offset(map, a))
 }
 
+/// One body's tile laws, or why its sweep failed.
+type BodyLaws = Result<Vec<CalibratedLaw>, FidelityError>;
+
 /// The laws of the tiles among the road's asperities `indices`, calibrated
 /// body by body (module docs): one entry per index, `None` for an asperity
-/// that is no tile (or the only tile of its plateau among `indices`) and
-/// for the tiles of a body whose sweep failed (to be calibrated alone).
-/// Bodies are solved in parallel on rayon's current pool.
+/// that is no tile (or the only tile of its plateau among `indices`) and,
+/// with [`OnCapFailure::WilkeLaw`], for the tiles of a body whose sweep
+/// failed (to be calibrated alone, each with its own fallback). Bodies are
+/// solved in parallel on rayon's current pool.
+///
+/// # Errors
+/// With [`OnCapFailure::Abort`], the first body's failure; a disk cache
+/// that cannot be written, always.
 pub(super) fn body_laws(
     road: &TextureRoad,
     map: &HeightMap,
     max_approach: f64,
     calibrator: &Calibrator,
     indices: &[usize],
-) -> Vec<Option<CalibratedLaw>> {
+    on_failure: OnCapFailure,
+) -> Result<Vec<Option<CalibratedLaw>>, FidelityError> {
     use rayon::prelude::*;
     let segmented = road.segmentation.asperities();
     let asperity = |i: usize| &segmented[road.asperity_index[i]];
@@ -144,25 +156,30 @@ pub(super) fn body_laws(
     }
     bodies.retain(|(_, members)| members.len() > 1);
     let top = road.set.top();
-    let solved: Vec<(Vec<usize>, Option<Vec<CalibratedLaw>>)> = bodies
+    let solved: Vec<(Vec<usize>, BodyLaws)> = bodies
         .into_par_iter()
         .map(|(plateau, members)| {
             let tiles: Vec<usize> = members.iter().map(|&n| indices[n]).collect();
             let laws = one_body(road, map, max_approach, calibrator, &tiles, top)
-                .ok()
                 .map(|laws| laws.into_iter().map(|l| l.in_body(plateau)).collect());
             (members, laws)
         })
         .collect();
     let mut out = vec![None; indices.len()];
     for (members, laws) in solved {
-        if let Some(laws) = laws {
-            for (n, law) in members.into_iter().zip(laws) {
-                out[n] = Some(law);
+        match laws {
+            Ok(laws) => {
+                for (n, law) in members.into_iter().zip(laws) {
+                    out[n] = Some(law);
+                }
             }
+            Err(e @ FidelityError::Cache { .. }) => return Err(e),
+            Err(e) if on_failure == OnCapFailure::Abort => return Err(e),
+            // Its tiles are calibrated alone, each failing on its own.
+            Err(_) => {}
         }
     }
-    out
+    Ok(out)
 }
 
 /// The tiles `tiles` (road indices) of one plateau, calibrated by one sweep

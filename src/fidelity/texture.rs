@@ -139,7 +139,8 @@ fn calibrated_set_on(
 ) -> Result<(AsperitySet<CalibratedLaw>, Vec<CapFallback>), FidelityError> {
     let all: Vec<usize> = (0..road.len()).collect();
     // Tiles of one plateau as one body (super::joint); the rest alone.
-    let mut bodies = super::joint::body_laws(road, map, max_approach, calibrator, &all);
+    let mut bodies =
+        super::joint::body_laws(road, map, max_approach, calibrator, &all, on_failure)?;
     let alone: Vec<usize> = all
         .iter()
         .copied()
