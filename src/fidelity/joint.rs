@@ -106,20 +106,6 @@ pub fn solve_calibrated(
     )?)
 }
 
-/// The depth range rule of [`super::calibrated_set`] for asperity `a` at
-/// height `z` (the road's), `top` the road's highest summit.
-pub(super) fn table_depth(
-    map: &HeightMap,
-    a: &Asperity,
-    z: f64,
-    top: f64,
-    max_approach: f64,
-) -> f64 {
-    (max_approach - (top - z))
-        .max(0.1 * max_approach)
-        .max(2.0 * super::texture::top_cell_offset(map, a))
-}
-
 /// One body's tile laws, or why its sweep failed.
 type BodyLaws = Result<Vec<CalibratedLaw>, FidelityError>;
 
@@ -213,7 +199,7 @@ fn one_body(
         .iter()
         .zip(&members)
         .map(|(&i, a)| {
-            table_depth(map, a, road.set.heights()[i], top, max_approach)
+            super::texture::table_depth(map, a, road.set.heights()[i], top, max_approach)
                 + (body.summit_height - a.summit_height)
         })
         .fold(0.0, f64::max);

@@ -230,9 +230,23 @@ pub(crate) struct CalibratedLaws {
     pub fallbacks: Vec<CapFallback>,
 }
 
+/// The depth range rule of [`super::calibrated_set`] for asperity `a` at
+/// height `z` (the road's), `top` the road's highest summit.
+pub(super) fn table_depth(
+    map: &HeightMap,
+    a: &Asperity,
+    z: f64,
+    top: f64,
+    max_approach: f64,
+) -> f64 {
+    (max_approach - (top - z))
+        .max(0.1 * max_approach)
+        .max(2.0 * top_cell_offset(map, a))
+}
+
 /// How far (m) `a`'s summit stands above its highest valid cell (0 for a
 /// summit on a cell, or when no cell is valid: `cap_patch` says so).
-pub(super) fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
+fn top_cell_offset(map: &HeightMap, a: &Asperity) -> f64 {
     let highest = a
         .cells
         .iter()
@@ -353,7 +367,7 @@ pub(super) fn calibrated_laws_by(
             // faceted top: the range must reach the highest cell (and as
             // far past it as the summit stands above it), or the cap has
             // no cell to calibrate.
-            let depth = super::joint::table_depth(map, a, z - lift, top, max_approach);
+            let depth = table_depth(map, a, z - lift, top, max_approach);
             let calibrated = shape.patch(map, a, i, depth).and_then(|shaped| {
                 let patch = shaped.patch;
                 // A cap raised to touch where its shape says is pressed
