@@ -16,10 +16,11 @@
 //! coupling through the half-space is in the tables, so the multipoint
 //! solve cancels the point kernel between tiles of one body
 //! ([`body_correction`], `C_ij = −1/(π E* r_ij)`) and keeps it to every
-//! other asperity. Under a tread that presses the plateau unevenly, each
-//! tile follows its share of the plateau's law at its own depth: exact for
-//! a uniform depth, first order in the depth's variation across the
-//! plateau.
+//! other asperity. Pressed unevenly, each tile follows its share of the
+//! level plateau's law at its own depth: exact for a uniform depth, but
+//! blind to its neighbours' depths, so rolling runs (a tyre's crown across
+//! the plateau) keep the tiles alone (docs/theory.md §3, "Tiles of one
+//! body").
 //!
 //! Invariants: a road without split tops is calibrated exactly as before
 //! (same tables, no correction); every tile of a body gets a table from
@@ -47,24 +48,30 @@ use crate::texture_road::TextureRoad;
 /// None for a valid problem (the pairs are distinct and finite); the
 /// `Result` is [`PairCorrection::new`]'s.
 pub fn body_correction(problem: &Problem<CalibratedLaw>) -> Result<PairCorrection, FidelityError> {
-    let n = problem.len();
     let factor = problem.material().boussinesq_factor();
     let positions = problem.positions();
-    let laws = problem.laws();
+    // Only laws of one body are paired: the cost is the sum of the
+    // bodies' squared sizes, not the problem's.
+    let mut members: Vec<(usize, usize)> = problem
+        .laws()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, law)| law.body().map(|b| (b, i)))
+        .collect();
+    members.sort_unstable();
     let mut pairs = Vec::new();
-    for i in 0..n {
-        let Some(body) = laws[i].body() else { continue };
-        for j in i + 1..n {
-            if laws[j].body() != Some(body) {
-                continue;
-            }
-            let r = (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
-            if r > 0.0 {
-                pairs.push((i, j, -factor / r));
+    for body in members.chunk_by(|a, b| a.0 == b.0) {
+        for (n, &(_, i)) in body.iter().enumerate() {
+            for &(_, j) in &body[n + 1..] {
+                let r =
+                    (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
+                if r > 0.0 {
+                    pairs.push((i, j, -factor / r));
+                }
             }
         }
     }
-    PairCorrection::new(n, pairs).map_err(FidelityError::Solve)
+    PairCorrection::new(problem.len(), pairs).map_err(FidelityError::Solve)
 }
 
 /// Solves a calibrated problem: as [`solve_from`] when no two laws share a
