@@ -1,5 +1,5 @@
 //! Sensor forces counted on each cap's own pressure
-//! ([`super::cap_sensor_forces`]) against the BEM rolling reference, on a
+//! ([`crate::fidelity::cap_sensors::cap_sensor_forces`]) against the BEM rolling reference, on a
 //! chipping whose summit lies at one end of a long top: the case where a
 //! disc around the summit misplaces the load (docs/validation.md, "Where
 //! the shoulder's load goes").
@@ -79,14 +79,19 @@ fn cap_pressure_puts_a_long_chipping_s_load_where_the_bem_does() {
     };
     let bem = roll_bem(&field, material, &config, &options).expect("BEM rolling");
     let run = roll(&road, material, &config, &RunOptions::default()).expect("rolling");
-    let caps = cap_sensor_forces(
+    let bem_options = crate::bem::BemOptions {
+        tolerance: options.tolerance,
+        max_iterations: options.max_iterations,
+        ..crate::bem::BemOptions::default()
+    };
+    let caps = crate::fidelity::cap_sensors::cap_sensor_forces(
         &run,
         road.positions(),
         &config,
         &field,
         &troad,
         &material,
-        &options,
+        (&bem_options, Par::Seq),
     )
     .expect("cap sensor forces");
     let bem_cut = bem.steps[0].sensor_forces[0];

@@ -57,7 +57,6 @@
 //! - a step's result depends on its warm start only within the BEM
 //!   tolerance ([`BemRollingOptions::tolerance`]).
 
-mod caps;
 mod compare;
 mod refine;
 mod run_scenario;
@@ -65,7 +64,6 @@ mod split;
 mod visco;
 mod visco_compare;
 
-pub use caps::cap_sensor_forces;
 pub use compare::{
     BandComparison, ERROR_DB_FOR_1DB, RollingComparison, SignalComparison, SpectrumKind, compare,
     compare_references, summit_sensor_forces, third_octave_policy, transient_policy,

@@ -4,10 +4,10 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use crate::fidelity::Fidelity;
 use crate::fidelity::rolling_fields::{
     FieldRolling, FieldRollingStats, SensorAccounting, sensor_forces,
 };
+use crate::fidelity::{Fidelity, FidelityError};
 use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
 use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult, run_calibrated_fields};
@@ -17,8 +17,7 @@ use crate::texture::HeightMap;
 use crate::texture_road::texture_road;
 
 use super::{
-    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, cap_sensor_forces,
-    compare, roll_bem,
+    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare, roll_bem,
 };
 
 /// Both runs of one stretch and their comparison.
@@ -44,7 +43,7 @@ pub struct BemRollingRun {
     /// would calibrate the road again).
     pub summit_gaps: Option<(RollingResult, RollingComparison)>,
     /// The same multipoint run with each contact's force spread on the
-    /// sensors as its own cap's BEM pressure ([`super::cap_sensor_forces`]):
+    /// sensors as its own cap's BEM pressure ([`crate::fidelity::cap_sensors`]):
     /// its sensor forces (one row per sensor) and its comparison with the
     /// BEM (its `sensors`; the other signals are the run's).
     pub caps: (Vec<Vec<f64>>, RollingComparison),
@@ -78,21 +77,8 @@ pub struct FieldRungAccountings {
 /// [`BemRollingError::InvalidInput`] for a map with unmeasured points (the
 /// BEM needs a complete surface).
 pub fn texture_field(map: &HeightMap) -> Result<Field, BemRollingError> {
-    let field = map.field();
-    if field.valid_count() != field.grid().len() {
-        return Err(BemRollingError::InvalidInput(format!(
-            "the texture has {} unmeasured points: the BEM reference needs a complete map",
-            field.grid().len() - field.valid_count()
-        )));
-    }
-    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
-    let grid = field
-        .grid()
-        .clone()
-        .with_origin([0.0, -y_mid])
-        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))?;
-    Field::new(grid, field.values().to_vec())
-        .map_err(|e| BemRollingError::InvalidInput(e.to_string()))
+    crate::fidelity::cap_sensors::road_frame_field(map)
+        .map_err(|e| BemRollingError::InvalidInput(format!("the BEM reference: {e}")))
 }
 
 /// The stretch of a scenario's path to compare: from `start` (m; default
@@ -276,15 +262,24 @@ fn cap_run(
     let troad = texture_road(map, material, &texture.road_options())
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
     let config = &multipoint.config;
-    let forces = cap_sensor_forces(
+    let bem_options = crate::bem::BemOptions {
+        tolerance: options.tolerance,
+        max_iterations: options.max_iterations,
+        ..crate::bem::BemOptions::default()
+    };
+    let forces = crate::fidelity::cap_sensors::cap_sensor_forces(
         &multipoint.result,
         &multipoint.road_positions,
         config,
         road,
         &troad,
         &material,
-        options,
-    )?;
+        (&bem_options, options.par),
+    )
+    .map_err(|e| match e {
+        FidelityError::CapSensors { step, source } => BemRollingError::Bem { step, source },
+        e => BemRollingError::InvalidInput(format!("cap sensor forces: {e}")),
+    })?;
     let comparison = recounted(multipoint, &forces, bem, reference_force, segment)?;
     Ok((forces, comparison))
 }

@@ -36,6 +36,7 @@
 //! `k = dP/dδ` of the interpolant); equal caps share one table.
 
 mod calibrate;
+pub mod cap_sensors;
 pub mod compare;
 pub mod coupling;
 pub mod field;
@@ -85,6 +86,15 @@ pub enum FidelityError {
     Bem {
         /// Which solve.
         context: &'static str,
+        /// The BEM's error.
+        source: crate::bem::BemError,
+    },
+    /// A cap's own solve, placing a contact's force for the sensors
+    /// ([`cap_sensors`]), failed.
+    #[error("cap sensor forces at step {step}: {source}")]
+    CapSensors {
+        /// The rolling step (0-based).
+        step: usize,
         /// The BEM's error.
         source: crate::bem::BemError,
     },

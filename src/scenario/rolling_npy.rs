@@ -28,6 +28,15 @@ pub(super) fn npy_window_road(
     let Some(path) = npy_file(texture, options) else {
         return Ok(None);
     };
+    if scenario.rolling.as_ref().and_then(|r| r.sensor_accounting)
+        == Some(super::rolling_spec::SensorAccountingSpec::Caps)
+    {
+        return Err(ScenarioError::Invalid(format!(
+            "[rolling] sensor_accounting = \"caps\" needs the whole map, and {} is read in \
+             windows (a .npy road with the wilke rung); use \"run\"",
+            path.display()
+        )));
+    }
     // Before the open pass over the whole file, which a spacing of 1e30 m
     // would only make slow and useless.
     let (dx, dy) = crate::texture::io::npy::sidecar_spacing(&path).map_err(|source| {

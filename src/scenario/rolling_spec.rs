@@ -46,6 +46,12 @@ pub struct RollingSpec {
     pub contact_slope: Option<ContactSlopeSpec>,
     /// Welch segment length in samples (default: half the signal).
     pub segment: Option<usize>,
+    /// How the sensors count each contact's force: `"run"` (default: as
+    /// the run spreads it, its law's disc or its calibrated field) or
+    /// `"caps"` (on its own cap, by a BEM solve of the cap under the tread
+    /// at that step; an elastic tread on a `[texture]` read whole;
+    /// docs/rolling.md, "Sensors counted on the caps").
+    pub sensor_accounting: Option<SensorAccountingSpec>,
     /// A synthetic road of random spheres instead of the scenario's
     /// asperities.
     pub synthetic_road: Option<SyntheticRoadSpec>,
@@ -63,6 +69,19 @@ pub enum ContactSlopeSpec {
     Deformed,
     /// [`rolling::ContactSlope::Profile`].
     Profile,
+}
+
+/// `[rolling] sensor_accounting`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SensorAccountingSpec {
+    /// The run's own spread of each contact (its law's disc, or its
+    /// calibrated field in the `calibrated_fields` rung).
+    #[default]
+    Run,
+    /// Each contact's force placed by a BEM solve of its own cap under the
+    /// tread (`crate::fidelity::cap_sensors`).
+    Caps,
 }
 
 /// `[rolling.tread]`

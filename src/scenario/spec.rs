@@ -488,6 +488,21 @@ impl Scenario {
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [rolling] section".into()))?;
         let mut config = spec.config()?;
+        if spec.sensor_accounting == Some(super::rolling_spec::SensorAccountingSpec::Caps) {
+            // Each cap is solved on the texture's own grid, elastically.
+            let refusal = if self.texture.is_none() {
+                Some("needs a [texture] (the caps are its segmentation's basins)")
+            } else if self.material.viscoelastic.is_some() {
+                Some("is for an elastic tread (each cap is solved elastically)")
+            } else {
+                None
+            };
+            if let Some(why) = refusal {
+                return Err(ScenarioError::Invalid(format!(
+                    "[rolling] sensor_accounting = \"caps\" {why}; use \"run\""
+                )));
+            }
+        }
         if self.material.viscoelastic.is_some() {
             // The hereditary displacement's slope is not modelled.
             if spec.contact_slope == Some(super::rolling_spec::ContactSlopeSpec::Deformed) {

@@ -377,7 +377,7 @@ pub(crate) fn run_texture_static(
 
 /// The texture's asperities, with "no asperity" said in the scenario's
 /// terms: which keys decide it and what the map was.
-fn scenario_road(
+pub(super) fn scenario_road(
     map: &HeightMap,
     material: Material,
     texture: &TextureSpec,

@@ -1,32 +1,64 @@
-//! A multipoint rolling run's sensor forces with each contact's force
-//! spread as its own cap's pressure (docs/validation.md, "Where the
-//! shoulder's load goes").
+//! A rolling run's sensor forces with each contact's force spread as its
+//! own cap's pressure: `[rolling] sensor_accounting = "caps"` in a
+//! scenario, and the "(caps)" rows of the BEM rolling comparison
+//! (docs/rolling.md, "Sensors counted on the caps"; docs/validation.md,
+//! "Where the shoulder's load goes").
 //!
 //! The rolling run's sensors spread each contact's force as a Hertz or cone
-//! pressure over a disc around its contact point (`Sensor::share`). A road
-//! chipping is no paraboloid: its highest point (the summit) may lie at one
-//! end of a long, flat top, so its real patch reaches millimetres beyond
-//! that disc (on the dense asphalt a chipping whose summit lies 1.9 mm
-//! outside the shoulder sensor puts 23–40 % of its load inside it by the
-//! BEM, 2–3 % by the disc). Here the force `P_i` of each contact that a
-//! sensor's edge could cut is placed by the BEM on its cap alone: the
-//! cells of its segmentation basin, under the tread's profile at that step
-//! (`h − s(x − x_c, y − y_c)`, a floor elsewhere), pressed under load
-//! control to `P_i`; the sensor takes that pressure over its rectangle
-//! (cells counted with the fraction of their area inside, as the BEM
-//! reference's sensors are). A contact whose basin lies wholly inside a
-//! sensor gives it `P_i`, wholly outside 0, without a solve.
+//! pressure over a disc around its contact point (`Sensor::share`), or as
+//! its calibrated field under a level punch. A road chipping is no
+//! paraboloid: its highest point (the summit) may lie at one end of a long,
+//! flat top, so its real patch reaches millimetres beyond that disc (on the
+//! dense asphalt a chipping whose summit lies 1.9 mm outside the shoulder
+//! sensor puts 23–40 % of its load inside it by the BEM, 2–3 % by the
+//! disc). Here the force `P_i` of each contact that a sensor's edge could
+//! cut is placed by the BEM on its cap alone: the cells of its segmentation
+//! basin, under the tread's profile at that step (`h − s(x − x_c, y −
+//! y_c)`, a floor elsewhere), pressed under load control to `P_i`; the
+//! sensor takes that pressure over its rectangle (cells counted with the
+//! fraction of their area inside). A contact whose basin lies wholly inside
+//! a sensor gives it `P_i`, wholly outside 0, without a solve.
 //!
 //! Invariants: each contact's shares over sensors tiling the road sum to
 //! `P_i` (the local solve carries exactly `P_i`); the forces are the run's,
-//! only where they are counted changes.
+//! only where they are counted changes; a failed step's sensors are NaN.
 
-use crate::bem::{BemOptions, Control, Solver};
+use crate::bem::{BemError, BemOptions, Control, Solver};
 use crate::rolling::{RollingConfig, RollingResult};
-use crate::shared::{Field, Grid, Material, Par};
+use rayon::prelude::*;
+
+use crate::shared::{Field, Grid, Material, Par, is_parallel, run_at};
+use crate::texture::HeightMap;
 use crate::texture_road::TextureRoad;
 
-use super::{BemRollingError, BemRollingOptions, overlap};
+use super::FidelityError;
+
+/// The texture `map` in a rolling run's road frame: x from the map's first
+/// column, y from its mid-width (the frame of `crate::texture_road`'s
+/// rolling sets).
+///
+/// # Errors
+/// [`FidelityError::InvalidInput`] for a map with unmeasured points (a cap
+/// solve needs every cell).
+pub fn road_frame_field(map: &HeightMap) -> Result<Field, FidelityError> {
+    let field = map.field();
+    let missing = field.grid().len() - field.valid_count();
+    if missing != 0 {
+        return Err(FidelityError::invalid(
+            "texture",
+            format!("{missing} unmeasured points"),
+            "a complete map (every cell measured)",
+        ));
+    }
+    let y_mid = 0.5 * (map.ny() - 1) as f64 * map.dy();
+    let grid = field
+        .grid()
+        .clone()
+        .with_origin([0.0, -y_mid])
+        .map_err(|e| FidelityError::invalid("road frame", e, "a valid grid"))?;
+    Field::new(grid, field.values().to_vec())
+        .map_err(|e| FidelityError::invalid("road frame", e, "a valid field"))
+}
 
 /// Cells of margin around a basin in its local solve.
 const MARGIN_CELLS: usize = 3;
@@ -41,17 +73,18 @@ struct BasinCells {
 
 /// The sensor forces of `run` (one row per sensor, one value per step; NaN
 /// at a failed step) with each contact's force spread as its cap's
-/// pressure.
+/// pressure, each cap solved with `bem` (its tolerance and iterations;
+/// never periodic, each solve on one thread), the steps spread over `par`.
 ///
 /// `road_positions` are the summits of the run's road by id (the
 /// `RollingRun`'s); `field` is the texture in the road frame
-/// ([`super::texture_field`]) and `texture` its segmentation into the road
+/// ([`road_frame_field`]) and `texture` its segmentation into the road
 /// (each run asperity is found in it by its summit position, to 1 nm).
 ///
 /// # Errors
-/// [`BemRollingError::InvalidInput`] when a contact's summit is not a
-/// segmented asperity of `texture`; [`BemRollingError::Bem`] when a local
-/// solve fails.
+/// [`FidelityError::InvalidInput`] when a contact's summit is not a
+/// segmented asperity of `texture`; [`FidelityError::CapSensors`] when a
+/// local solve fails.
 pub fn cap_sensor_forces(
     run: &RollingResult,
     road_positions: &[[f64; 2]],
@@ -59,15 +92,16 @@ pub fn cap_sensor_forces(
     field: &Field,
     texture: &TextureRoad,
     material: &Material,
-    options: &BemRollingOptions,
-) -> Result<Vec<Vec<f64>>, BemRollingError> {
+    (bem, par): (&BemOptions, Par),
+) -> Result<Vec<Vec<f64>>, FidelityError> {
     let g = field.grid();
     let (nx, ny) = (g.nx(), g.ny());
     if texture.segmentation.size() != (nx, ny) {
-        return Err(BemRollingError::InvalidInput(format!(
-            "cap sensor forces: the road field is {nx} × {ny}, the segmentation {:?}",
-            texture.segmentation.size()
-        )));
+        return Err(FidelityError::invalid(
+            "road field",
+            format!("{nx} × {ny}"),
+            format!("the segmentation's size {:?}", texture.segmentation.size()),
+        ));
     }
     // Summit positions of the texture road in the road frame (the field's
     // origin carries the frame's shift across the path).
@@ -82,43 +116,44 @@ pub fn cap_sensor_forces(
             (key([s[0] + shift[0], s[1] + shift[1]]), k)
         })
         .collect();
-    let mut basins: std::collections::HashMap<usize, BasinCells> = Default::default();
     let (dx, dy) = (g.dx(), g.dy());
     let bem_options = BemOptions {
-        tolerance: options.tolerance,
-        max_iterations: options.max_iterations,
         periodic: false,
         par: Par::Seq,
+        ..*bem
     };
-    let mut out = vec![vec![0.0; run.steps.len()]; config.sensors.len()];
-    for (k, step) in run.steps.iter().enumerate() {
+    let basin_cells = |basin: usize| {
+        let cells = asperities[basin].cells.clone();
+        let (mut x, mut y) = (
+            [f64::INFINITY, f64::NEG_INFINITY],
+            [f64::INFINITY, f64::NEG_INFINITY],
+        );
+        for &c in &cells {
+            let (cx, cy) = (g.x(c % nx), g.y(c / nx));
+            x = [x[0].min(cx - 0.5 * dx), x[1].max(cx + 0.5 * dx)];
+            y = [y[0].min(cy - 0.5 * dy), y[1].max(cy + 0.5 * dy)];
+        }
+        BasinCells { cells, x, y }
+    };
+    // One step's sensor forces (a row per sensor).
+    let step_forces = |k: usize| -> Result<Vec<f64>, FidelityError> {
+        let step = &run.steps[k];
+        let mut out = vec![0.0; config.sensors.len()];
         // A failed step's forces are unknown, not zero.
         if step.status == crate::rolling::StepStatus::Failed {
-            for row in &mut out {
-                row[k] = f64::NAN;
-            }
-            continue;
+            out.fill(f64::NAN);
+            return Ok(out);
         }
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
             let summit = road_positions.get(id).copied().unwrap_or([f64::NAN; 2]);
             let Some(&basin) = by_summit.get(&key(summit)) else {
-                return Err(BemRollingError::InvalidInput(format!(
-                    "cap sensor forces: asperity {id} (summit {summit:?} m) is not in the segmentation"
-                )));
+                return Err(FidelityError::invalid(
+                    "contact",
+                    format!("asperity {id} (summit {summit:?} m)"),
+                    "an asperity of the texture's segmentation",
+                ));
             };
-            let b = basins.entry(basin).or_insert_with(|| {
-                let cells = asperities[basin].cells.clone();
-                let (mut x, mut y) = (
-                    [f64::INFINITY, f64::NEG_INFINITY],
-                    [f64::INFINITY, f64::NEG_INFINITY],
-                );
-                for &c in &cells {
-                    let (cx, cy) = (g.x(c % nx), g.y(c / nx));
-                    x = [x[0].min(cx - 0.5 * dx), x[1].max(cx + 0.5 * dx)];
-                    y = [y[0].min(cy - 0.5 * dy), y[1].max(cy + 0.5 * dy)];
-                }
-                BasinCells { cells, x, y }
-            });
+            let b = basin_cells(basin);
             let mut local: Option<Vec<f64>> = None;
             for (s, sensor) in config.sensors.iter().enumerate() {
                 let inside = b.x[0] >= sensor.x[0]
@@ -130,7 +165,7 @@ pub fn cap_sensor_forces(
                     || b.y[1] <= sensor.y[0]
                     || b.y[0] >= sensor.y[1];
                 if inside {
-                    out[s][k] += force;
+                    out[s] += force;
                     continue;
                 }
                 if outside {
@@ -139,14 +174,14 @@ pub fn cap_sensor_forces(
                 if local.is_none() {
                     let on = cap_pressure(
                         field,
-                        b,
+                        &b,
                         config,
                         step.position,
                         force,
                         material,
                         &bem_options,
                     )
-                    .map_err(|source| BemRollingError::Bem { step: k, source })?;
+                    .map_err(|source| FidelityError::CapSensors { step: k, source })?;
                     local = Some(
                         config
                             .sensors
@@ -171,11 +206,26 @@ pub fn cap_sensor_forces(
                             .collect(),
                     );
                 }
-                out[s][k] += local.as_ref().map_or(0.0, |l| l[s]);
+                out[s] += local.as_ref().map_or(0.0, |l| l[s]);
             }
         }
-    }
-    Ok(out)
+        Ok(out)
+    };
+    let steps = run.steps.len();
+    let by_step: Vec<Vec<f64>> = if is_parallel(par) {
+        run_at(par, || {
+            (0..steps)
+                .into_par_iter()
+                .map(step_forces)
+                .collect::<Result<_, _>>()
+        })?
+    } else {
+        (0..steps).map(step_forces).collect::<Result<_, _>>()?
+    };
+    // One row per sensor.
+    Ok((0..config.sensors.len())
+        .map(|s| by_step.iter().map(|row| row[s]).collect())
+        .collect())
 }
 
 /// The BEM pressure of basin `b` alone under the tread at `xc`, carrying
@@ -188,7 +238,7 @@ fn cap_pressure(
     force: f64,
     material: &Material,
     options: &BemOptions,
-) -> Result<Vec<(f64, f64, f64)>, crate::bem::BemError> {
+) -> Result<Vec<(f64, f64, f64)>, BemError> {
     let g = field.grid();
     let nx = g.nx();
     let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
@@ -239,4 +289,9 @@ fn cap_pressure(
         .filter(|&c| s.pressure[c] > 0.0)
         .map(|c| (g.x(i0 + c % pnx), g.y(j0 + c / pnx), s.pressure[c] * cell))
         .collect())
+}
+
+/// Length of the overlap of `[a0, a1]` and `[b0, b1]` (0 when apart).
+fn overlap(a0: f64, a1: f64, b0: f64, b1: f64) -> f64 {
+    (a1.min(b1) - a0.max(b0)).max(0.0)
 }
