@@ -332,6 +332,31 @@ fn sensors_on_caps_are_refused_without_a_texture_or_on_a_viscoelastic_tread() ->
         e.to_string().contains("sensor_accounting") && e.to_string().contains("elastic"),
         "{e}"
     );
+    // Refused before anything rolls: a streamed distributed run, and a map
+    // with an unmeasured point (a cap solve needs every cell; the message
+    // is `CapRecount::prepare`'s, which runs before the calibration).
+    let caps = Scenario::parse(&text, "t")?;
+    let e = caps.check_streamed().expect_err("streamed caps");
+    assert!(e.to_string().contains("--gather"), "{e}");
+    assert!(
+        Scenario::parse(&scenario(Some("4 mm")), "t")?
+            .check_streamed()
+            .is_ok()
+    );
+    let dir = tempfile::tempdir()?;
+    let whole = mesa();
+    let mut heights = whole.heights().to_vec();
+    heights[5] = f64::NAN;
+    let holed =
+        HeightMap::from_nan_heights(whole.nx(), whole.ny(), whole.dx(), whole.dy(), heights)?;
+    write_ascii_grid(&holed, dir.path().join("mesa.asc"))?;
+    let e = caps
+        .run(&tyreroad::scenario::RunOptions::new(dir.path()))
+        .expect_err("a holed map");
+    assert!(
+        e.to_string().contains("sensor_accounting") && e.to_string().contains("unmeasured"),
+        "{e}"
+    );
     let e =
         Scenario::parse(&text.replace("\"caps\"", "\"cells\""), "t").expect_err("unknown value");
     assert!(

@@ -65,8 +65,8 @@ const MARGIN_CELLS: usize = 3;
 
 /// One basin's cells (indices into the road field) and the road-frame
 /// rectangle they cover.
-struct BasinCells {
-    cells: Vec<usize>,
+struct BasinCells<'a> {
+    cells: &'a [usize],
     x: [f64; 2],
     y: [f64; 2],
 }
@@ -123,12 +123,12 @@ pub fn cap_sensor_forces(
         ..*bem
     };
     let basin_cells = |basin: usize| {
-        let cells = asperities[basin].cells.clone();
+        let cells = &asperities[basin].cells[..];
         let (mut x, mut y) = (
             [f64::INFINITY, f64::NEG_INFINITY],
             [f64::INFINITY, f64::NEG_INFINITY],
         );
-        for &c in &cells {
+        for &c in cells {
             let (cx, cy) = (g.x(c % nx), g.y(c / nx));
             x = [x[0].min(cx - 0.5 * dx), x[1].max(cx + 0.5 * dx)];
             y = [y[0].min(cy - 0.5 * dy), y[1].max(cy + 0.5 * dy)];
@@ -145,11 +145,14 @@ pub fn cap_sensor_forces(
             return Ok(out);
         }
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let summit = road_positions.get(id).copied().unwrap_or([f64::NAN; 2]);
-            let Some(&basin) = by_summit.get(&key(summit)) else {
+            let basin = road_positions
+                .get(id)
+                .and_then(|&summit| by_summit.get(&key(summit)));
+            let Some(&basin) = basin else {
+                let summit = road_positions.get(id);
                 return Err(FidelityError::invalid(
                     "contact",
-                    format!("asperity {id} (summit {summit:?} m)"),
+                    format!("asperity {id} (summit {summit:?} m, step {k})"),
                     "an asperity of the texture's segmentation",
                 ));
             };
@@ -232,7 +235,7 @@ pub fn cap_sensor_forces(
 /// `force`: `(x, y, force on the cell)` for each loaded cell.
 fn cap_pressure(
     field: &Field,
-    b: &BasinCells,
+    b: &BasinCells<'_>,
     config: &RollingConfig,
     xc: f64,
     force: f64,
@@ -244,15 +247,28 @@ fn cap_pressure(
     let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
     let mut low = f64::INFINITY;
     let mut high = f64::NEG_INFINITY;
+    // A contact at a block's edge may have no cell under the block: its
+    // cap is then pressed as the bare road (the tread's profile left out),
+    // rather than not at all.
+    let under_tread = b.cells.iter().any(|&c| {
+        config
+            .tread
+            .profile(g.x(c % nx) - xc, g.y(c / nx) - config.lateral)
+            .is_some()
+    });
     let surface = |c: usize| {
         let (i, j) = (c % nx, c / nx);
-        let s = config
-            .tread
-            .profile(g.x(i) - xc, g.y(j) - config.lateral)
-            .unwrap_or(f64::INFINITY);
+        let s = if under_tread {
+            config
+                .tread
+                .profile(g.x(i) - xc, g.y(j) - config.lateral)
+                .unwrap_or(f64::INFINITY)
+        } else {
+            0.0
+        };
         field.values()[c] - s
     };
-    for &c in &b.cells {
+    for &c in b.cells {
         let (i, j) = (c % nx, c / nx);
         (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
         let h = surface(c);
@@ -274,7 +290,7 @@ fn cap_pressure(
     // a millimetre.
     let floor = low - (high - low) - 1e-3;
     let mut values = vec![floor; pnx * pny];
-    for &c in &b.cells {
+    for &c in b.cells {
         let h = surface(c);
         if h.is_finite() {
             let (i, j) = (c % nx - i0, c / nx - j0);

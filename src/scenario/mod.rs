@@ -26,6 +26,7 @@ pub mod output;
 mod ranges;
 mod rolling;
 mod rolling_calibrated;
+mod rolling_caps;
 mod rolling_fields;
 mod rolling_npy;
 mod rolling_spec;

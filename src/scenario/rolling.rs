@@ -11,7 +11,6 @@ use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
-use super::rolling_spec::SensorAccountingSpec;
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::texture_road::rolling_road;
@@ -376,65 +375,9 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
         What::Gathered(result) => result,
         What::Road => return Err(ScenarioError::Invalid("no records to roll".into())),
     };
-    let result = sensors_on_caps(
-        scenario,
-        spec,
-        options,
-        (road.positions(), &config, material, par),
-        result,
-    )?;
     let summits = (road.positions().to_vec(), road.heights().to_vec());
     finish(config, spec, summary, summits, result)
 }
-
-/// `[rolling] sensor_accounting = "caps"`: the run's sensor forces
-/// recounted with each contact's force on its own cap
-/// ([`crate::fidelity::cap_sensors`]; the run's road `positions` are its
-/// summits in the road frame), so that the spectra and files after this
-/// are the caps'. Any other accounting: `result` as it is.
-fn sensors_on_caps(
-    scenario: &Scenario,
-    spec: &RollingSpec,
-    options: &RunOptions<'_>,
-    (positions, config, material, par): (&[[f64; 2]], &rolling::RollingConfig, Material, Par),
-    mut result: rolling::RollingResult,
-) -> Result<rolling::RollingResult, ScenarioError> {
-    use crate::fidelity::cap_sensors::{cap_sensor_forces, road_frame_field};
-    if spec.sensor_accounting != Some(SensorAccountingSpec::Caps) || config.sensors.is_empty() {
-        return Ok(result);
-    }
-    let texture = scenario.texture.as_ref().ok_or_else(|| {
-        ScenarioError::Invalid("[rolling] sensor_accounting = \"caps\" needs a [texture]".into())
-    })?;
-    let map = texture.height_map(&options.base_dir)?;
-    let road = super::texture::scenario_road(&map, material, texture)?;
-    let field = road_frame_field(&map)?;
-    // The BEM rolling reference's tolerance: each cap's force is imposed,
-    // only where it lies is solved for.
-    let bem = crate::bem::BemOptions {
-        tolerance: CAP_TOLERANCE,
-        ..crate::bem::BemOptions::default()
-    };
-    let forces = cap_sensor_forces(
-        &result,
-        positions,
-        config,
-        &field,
-        &road,
-        &material,
-        (&bem, par),
-    )?;
-    for (k, step) in result.steps.iter_mut().enumerate() {
-        for (s, f) in step.sensor_forces.iter_mut().enumerate() {
-            *f = forces[s][k];
-        }
-    }
-    Ok(result)
-}
-
-/// Relative tolerance of each cap's solve under `sensor_accounting =
-/// "caps"` (the BEM rolling reference's default).
-const CAP_TOLERANCE: f64 = 1e-7;
 
 /// Path length (m) rolled on one window of a synthetic road by a rank:
 /// the window is this plus a footprint and its margin, so a rank's memory

@@ -14,6 +14,7 @@ use super::rolling::{
     PieceSink, RoadSummary, Rolled, RollingRun, What, roll_part_on_windows, roll_road,
     roll_road_with, rolling_on_uncalibrated_road,
 };
+use super::rolling_caps::CapRecount;
 use super::rolling_npy::npy_window_road;
 use super::texture::{calibrated_texture_road_set_with, rolling_calibrator};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError, TextureSpec};
@@ -37,7 +38,30 @@ pub(crate) fn run_rolling(
 /// Builds the scenario's road and does `what` on it: on a texture, with
 /// the calibrated rungs, here; otherwise
 /// [`rolling_on_uncalibrated_road`].
+/// A whole run's sensors are then counted as `[rolling]
+/// sensor_accounting` says ([`CapRecount`]: once, after any repeated
+/// calibrated round; its inputs checked before the run).
 pub(crate) fn rolling_on_road(
+    scenario: &Scenario,
+    spec: &RollingSpec,
+    options: &RunOptions<'_>,
+    what: What,
+) -> Result<Rolled, ScenarioError> {
+    let caps = match what {
+        What::Whole | What::Gathered(_) => CapRecount::prepare(scenario, spec, options)?,
+        What::Part { .. } | What::Road => None,
+    };
+    match (caps, rolling_on_any_road(scenario, spec, options, what)?) {
+        (Some(caps), Rolled::Run(mut run)) => {
+            caps.recount(spec, &mut run)?;
+            Ok(Rolled::Run(run))
+        }
+        (_, rolled) => Ok(rolled),
+    }
+}
+
+/// [`rolling_on_road`] before the sensors are recounted.
+fn rolling_on_any_road(
     scenario: &Scenario,
     spec: &RollingSpec,
     options: &RunOptions<'_>,

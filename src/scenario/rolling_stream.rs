@@ -56,6 +56,27 @@ impl Scenario {
         roll_part_into(self, spec, options, (steps, warmup), sink)
     }
 
+    /// Whether this scenario's run can be streamed (its records written as
+    /// they arrive, [`Scenario::finish_streamed`]): not when its sensors
+    /// are recounted on the caps at the end (`[rolling] sensor_accounting =
+    /// "caps"`), which needs the whole records. A distributed runner asks
+    /// before anything is rolled.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] naming the key and the gathered run.
+    pub fn check_streamed(&self) -> Result<(), ScenarioError> {
+        let caps = self.rolling.as_ref().and_then(|r| r.sensor_accounting)
+            == Some(super::rolling_spec::SensorAccountingSpec::Caps);
+        if caps {
+            return Err(ScenarioError::Invalid(
+                "[rolling] sensor_accounting = \"caps\" recounts the whole records at the \
+                 end: gather them (`mpi-run --gather`) or use \"run\""
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// The run made of the signals of records written elsewhere as they
     /// arrived (every step of the path, in order): the road summary and the
     /// spectra exactly as [`Scenario::finish_rolling`] gives them from the
@@ -72,6 +93,7 @@ impl Scenario {
     ) -> Result<StreamedRun, ScenarioError> {
         let spec = self.rolling_section()?;
         let config = self.rolling_config()?;
+        self.check_streamed()?;
         if signals.len() != config.steps() {
             return Err(ScenarioError::Invalid(format!(
                 "gathered records do not cover the path's {} steps in order ({} written)",

@@ -154,6 +154,8 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
         }
         return Ok(());
     }
+    // Before any rank rolls: a streamed run cannot recount its sensors.
+    scenario.check_streamed()?;
     // Rank 0 streams the records into the output set as they arrive
     // (docs/distributed.md, "Gather and write"). A set that cannot be
     // opened is reported at the first record, as rank 0's error, so the

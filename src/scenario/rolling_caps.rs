@@ -1,0 +1,114 @@
+//! `[rolling] sensor_accounting = "caps"` (docs/rolling.md, "Sensors
+//! counted on the caps"): a whole run's sensor forces recounted with each
+//! contact's force on its own cap ([`crate::fidelity::cap_sensors`]) and
+//! its spectra computed again from them. The forces, approach and areas
+//! stay the run's.
+//!
+//! The texture is read and checked before the run ([`CapRecount::prepare`]:
+//! a map with unmeasured points is refused before any step is solved), and
+//! the recount is done once, on the finished run (after any calibrated
+//! round that repeated itself).
+
+use tyreroad_multipoint::Par;
+
+use super::rolling::{RollingRun, spectra};
+use super::rolling_spec::SensorAccountingSpec;
+use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::fidelity::cap_sensors::{cap_sensor_forces, road_frame_field};
+use crate::shared::{Field, Material};
+use crate::texture_road::TextureRoad;
+
+/// Relative tolerance of each cap's solve (the BEM rolling reference's
+/// default): each cap's force is imposed, only where it lies is solved
+/// for.
+const CAP_TOLERANCE: f64 = 1e-7;
+
+/// What a recount on the caps needs: the texture in the road frame and its
+/// segmentation into the road.
+pub(super) struct CapRecount {
+    field: Field,
+    road: TextureRoad,
+    material: Material,
+    par: Par,
+}
+
+impl CapRecount {
+    /// `Some` when the scenario asks for sensors on the caps and has sensors:
+    /// its texture read, segmented and checked.
+    ///
+    /// # Errors
+    /// No `[texture]`, a texture that cannot be read or segmented, or a map
+    /// with unmeasured points (a cap solve needs every cell).
+    pub(super) fn prepare(
+        scenario: &Scenario,
+        spec: &RollingSpec,
+        options: &RunOptions<'_>,
+    ) -> Result<Option<Self>, ScenarioError> {
+        if spec.sensor_accounting != Some(SensorAccountingSpec::Caps) || spec.sensors.is_empty() {
+            return Ok(None);
+        }
+        let refused = |why: String| {
+            ScenarioError::Invalid(format!(
+                "[rolling] sensor_accounting = \"caps\": {why}; use \"run\""
+            ))
+        };
+        let texture = scenario
+            .texture
+            .as_ref()
+            .ok_or_else(|| refused("needs a [texture]".into()))?;
+        let material = scenario.material()?;
+        let map = texture.height_map(&options.base_dir)?;
+        let field = road_frame_field(&map).map_err(|e| refused(e.to_string()))?;
+        let road = super::texture::scenario_road(&map, material, texture)?;
+        let par = options
+            .par
+            .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+        Ok(Some(Self {
+            field,
+            road,
+            material,
+            par,
+        }))
+    }
+
+    /// `run`'s sensor forces counted on the caps, and its spectra again.
+    ///
+    /// # Errors
+    /// A record whose sensors are not the configuration's, a contact that
+    /// is no asperity of the texture, a cap solve that fails (named with
+    /// its step), or a spectrum that cannot be computed.
+    pub(super) fn recount(
+        self,
+        spec: &RollingSpec,
+        run: &mut RollingRun,
+    ) -> Result<(), ScenarioError> {
+        let n = run.config.sensors.len();
+        if let Some(step) = run.result.steps.iter().find(|s| s.sensor_forces.len() != n) {
+            return Err(ScenarioError::Invalid(format!(
+                "step {}: {} sensor forces, the configuration has {n} sensors",
+                step.index,
+                step.sensor_forces.len()
+            )));
+        }
+        let bem = crate::bem::BemOptions {
+            tolerance: CAP_TOLERANCE,
+            ..crate::bem::BemOptions::default()
+        };
+        let forces = cap_sensor_forces(
+            &run.result,
+            &run.road_positions,
+            &run.config,
+            &self.field,
+            &self.road,
+            &self.material,
+            (&bem, self.par),
+        )?;
+        for (k, step) in run.result.steps.iter_mut().enumerate() {
+            for (s, f) in step.sensor_forces.iter_mut().enumerate() {
+                *f = forces[s][k];
+            }
+        }
+        run.spectra = spectra(&run.config, spec, &run.result)?;
+        Ok(())
+    }
+}
