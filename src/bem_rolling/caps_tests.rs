@@ -88,9 +88,7 @@ fn cap_pressure_puts_a_long_chipping_s_load_where_the_bem_does() {
         &run,
         road.positions(),
         &config,
-        &field,
-        &troad,
-        &material,
+        (&field, &troad, &material),
         (&bem_options, Par::Seq),
     )
     .expect("cap sensor forces");
@@ -116,5 +114,45 @@ fn cap_pressure_puts_a_long_chipping_s_load_where_the_bem_does() {
         (sum - run.steps[0].total_force).abs() < 1e-9 * LOAD,
         "caps sum {sum} N, force {} N",
         run.steps[0].total_force
+    );
+    // A cap solve that cannot converge is its step's failure: the count
+    // step by step names the step (a run's recount keeps that step's own
+    // accounting), the whole count stops on it.
+    let starved = crate::bem::BemOptions {
+        max_iterations: 1,
+        ..bem_options
+    };
+    let cap_inputs = (&field, &troad, &material);
+    let by_step = crate::fidelity::cap_sensors::cap_sensor_forces_by_step(
+        &run,
+        road.positions(),
+        &config,
+        cap_inputs,
+        (&starved, Par::Seq),
+    )
+    .expect("the run's inputs are valid");
+    assert!(
+        matches!(
+            by_step[..],
+            [Err(crate::fidelity::FidelityError::CapSensors {
+                step: 0,
+                ..
+            })]
+        ),
+        "{by_step:?}"
+    );
+    let whole = crate::fidelity::cap_sensors::cap_sensor_forces(
+        &run,
+        road.positions(),
+        &config,
+        cap_inputs,
+        (&starved, Par::Seq),
+    );
+    assert!(
+        matches!(
+            whole,
+            Err(crate::fidelity::FidelityError::CapSensors { step: 0, .. })
+        ),
+        "{whole:?}"
     );
 }

@@ -271,9 +271,7 @@ fn cap_run(
         &multipoint.result,
         &multipoint.road_positions,
         config,
-        road,
-        &troad,
-        &material,
+        (road, &troad, &material),
         (&bem_options, options.par),
     )
     .map_err(|e| match e {

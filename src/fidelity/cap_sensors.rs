@@ -84,16 +84,45 @@ struct BasinCells<'a> {
 /// # Errors
 /// [`FidelityError::InvalidInput`] when a contact's summit is not a
 /// segmented asperity of `texture`; [`FidelityError::CapSensors`] when a
-/// local solve fails.
+/// local solve fails (the first step's, [`cap_sensor_forces_by_step`]
+/// keeps the other steps).
 pub fn cap_sensor_forces(
     run: &RollingResult,
     road_positions: &[[f64; 2]],
     config: &RollingConfig,
-    field: &Field,
-    texture: &TextureRoad,
-    material: &Material,
+    (field, texture, material): (&Field, &TextureRoad, &Material),
     (bem, par): (&BemOptions, Par),
 ) -> Result<Vec<Vec<f64>>, FidelityError> {
+    let by_step = cap_sensor_forces_by_step(
+        run,
+        road_positions,
+        config,
+        (field, texture, material),
+        (bem, par),
+    )?
+    .into_iter()
+    .collect::<Result<Vec<_>, _>>()?;
+    // One row per sensor.
+    Ok((0..config.sensors.len())
+        .map(|s| by_step.iter().map(|row| row[s]).collect())
+        .collect())
+}
+
+/// [`cap_sensor_forces`] step by step: each step's sensor forces (one per
+/// sensor; NaN at a failed step), or [`FidelityError::CapSensors`] for a
+/// step where a cap's solve failed, which is that step's failure only.
+///
+/// # Errors
+/// What is wrong with the whole run: a road field that is not the
+/// segmentation's, a contact whose summit is no segmented asperity of
+/// `texture`.
+pub fn cap_sensor_forces_by_step(
+    run: &RollingResult,
+    road_positions: &[[f64; 2]],
+    config: &RollingConfig,
+    (field, texture, material): (&Field, &TextureRoad, &Material),
+    (bem, par): (&BemOptions, Par),
+) -> Result<Vec<Result<Vec<f64>, FidelityError>>, FidelityError> {
     let g = field.grid();
     let (nx, ny) = (g.nx(), g.ny());
     if texture.segmentation.size() != (nx, ny) {
@@ -135,14 +164,16 @@ pub fn cap_sensor_forces(
         }
         BasinCells { cells, x, y }
     };
-    // One step's sensor forces (a row per sensor).
-    let step_forces = |k: usize| -> Result<Vec<f64>, FidelityError> {
+    // One step's sensor forces (a row per sensor); the inner error is a
+    // cap solve's, the step's own.
+    type StepForces = Result<Vec<f64>, FidelityError>;
+    let step_forces = |k: usize| -> Result<StepForces, FidelityError> {
         let step = &run.steps[k];
         let mut out = vec![0.0; config.sensors.len()];
         // A failed step's forces are unknown, not zero.
         if step.status == crate::rolling::StepStatus::Failed {
             out.fill(f64::NAN);
-            return Ok(out);
+            return Ok(Ok(out));
         }
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
             let basin = road_positions
@@ -183,8 +214,13 @@ pub fn cap_sensor_forces(
                         force,
                         material,
                         &bem_options,
-                    )
-                    .map_err(|source| FidelityError::CapSensors { step: k, source })?;
+                    );
+                    let on = match on {
+                        Ok(on) => on,
+                        Err(source) => {
+                            return Ok(Err(FidelityError::CapSensors { step: k, source }));
+                        }
+                    };
                     local = Some(
                         config
                             .sensors
@@ -212,23 +248,16 @@ pub fn cap_sensor_forces(
                 out[s] += local.as_ref().map_or(0.0, |l| l[s]);
             }
         }
-        Ok(out)
+        Ok(Ok(out))
     };
     let steps = run.steps.len();
-    let by_step: Vec<Vec<f64>> = if is_parallel(par) {
+    if is_parallel(par) {
         run_at(par, || {
-            (0..steps)
-                .into_par_iter()
-                .map(step_forces)
-                .collect::<Result<_, _>>()
-        })?
+            (0..steps).into_par_iter().map(step_forces).collect()
+        })
     } else {
-        (0..steps).map(step_forces).collect::<Result<_, _>>()?
-    };
-    // One row per sensor.
-    Ok((0..config.sensors.len())
-        .map(|s| by_step.iter().map(|row| row[s]).collect())
-        .collect())
+        (0..steps).map(step_forces).collect()
+    }
 }
 
 /// The BEM pressure of basin `b` alone under the tread at `xc`, carrying

@@ -13,8 +13,8 @@ use tyreroad_multipoint::Par;
 
 use super::rolling::{RollingRun, spectra};
 use super::rolling_spec::SensorAccountingSpec;
-use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::fidelity::cap_sensors::{cap_sensor_forces, road_frame_field};
+use super::{RoadSummary, RollingSpec, RunOptions, Scenario, ScenarioError};
+use crate::fidelity::cap_sensors::{cap_sensor_forces_by_step, road_frame_field};
 use crate::shared::{Field, Material};
 use crate::texture_road::TextureRoad;
 
@@ -73,10 +73,13 @@ impl CapRecount {
 
     /// `run`'s sensor forces counted on the caps, and its spectra again.
     ///
+    /// A step where a cap's solve fails keeps the run's own sensor forces,
+    /// said among the texture summary's `warnings`.
+    ///
     /// # Errors
     /// A record whose sensors are not the configuration's, a contact that
-    /// is no asperity of the texture, a cap solve that fails (named with
-    /// its step), or a spectrum that cannot be computed.
+    /// is no asperity of the texture, or a spectrum that cannot be
+    /// computed.
     pub(super) fn recount(
         self,
         spec: &RollingSpec,
@@ -94,19 +97,28 @@ impl CapRecount {
             tolerance: CAP_TOLERANCE,
             ..crate::bem::BemOptions::default()
         };
-        let forces = cap_sensor_forces(
+        let by_step = cap_sensor_forces_by_step(
             &run.result,
             &run.road_positions,
             &run.config,
-            &self.field,
-            &self.road,
-            &self.material,
+            (&self.field, &self.road, &self.material),
             (&bem, self.par),
         )?;
-        for (k, step) in run.result.steps.iter_mut().enumerate() {
-            for (s, f) in step.sensor_forces.iter_mut().enumerate() {
-                *f = forces[s][k];
+        // A step whose cap solve failed keeps the run's own accounting:
+        // that step's failure, said among the texture's warnings.
+        let mut kept: Vec<String> = Vec::new();
+        for (step, counted) in run.result.steps.iter_mut().zip(by_step) {
+            match counted {
+                Ok(forces) => step.sensor_forces = forces,
+                Err(e) => kept.push(e.to_string()),
             }
+        }
+        if let (Some(first), RoadSummary::Texture(t)) = (kept.first(), &mut run.road) {
+            t.warnings.push(format!(
+                "sensor_accounting = \"caps\": {} step(s) keep the run's own sensor \
+                 accounting, their cap solves failed (first: {first})",
+                kept.len()
+            ));
         }
         run.spectra = spectra(&run.config, spec, &run.result)?;
         Ok(())
