@@ -79,11 +79,7 @@ fn cap_pressure_puts_a_long_chipping_s_load_where_the_bem_does() {
     };
     let bem = roll_bem(&field, material, &config, &options).expect("BEM rolling");
     let run = roll(&road, material, &config, &RunOptions::default()).expect("rolling");
-    let bem_options = crate::bem::BemOptions {
-        tolerance: options.tolerance,
-        max_iterations: options.max_iterations,
-        ..crate::bem::BemOptions::default()
-    };
+    let bem_options = options.cap_solve();
     let caps = crate::fidelity::cap_sensors::cap_sensor_forces(
         &run,
         road.positions(),

@@ -135,6 +135,19 @@ pub struct BemRollingOptions {
     pub par: Par,
 }
 
+impl BemRollingOptions {
+    /// The options of one cap's own solve
+    /// ([`crate::fidelity::cap_sensors`]): this tolerance and iteration
+    /// limit, the rest the BEM's defaults.
+    pub fn cap_solve(&self) -> crate::bem::BemOptions {
+        crate::bem::BemOptions {
+            tolerance: self.tolerance,
+            max_iterations: self.max_iterations,
+            ..crate::bem::BemOptions::default()
+        }
+    }
+}
+
 impl Default for BemRollingOptions {
     /// Tolerance `1e-7` (forces converge to ~1e-6 of the load, far below
     /// the 2 % targets), 5000 iterations, every thread of the current pool.

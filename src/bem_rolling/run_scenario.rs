@@ -262,11 +262,7 @@ fn cap_run(
     let troad = texture_road(map, material, &texture.road_options())
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
     let config = &multipoint.config;
-    let bem_options = crate::bem::BemOptions {
-        tolerance: options.tolerance,
-        max_iterations: options.max_iterations,
-        ..crate::bem::BemOptions::default()
-    };
+    let bem_options = options.cap_solve();
     let forces = crate::fidelity::cap_sensors::cap_sensor_forces(
         &multipoint.result,
         &multipoint.road_positions,

@@ -12,7 +12,6 @@
 use tyreroad_multipoint::Par;
 
 use super::rolling::{RollingRun, spectra};
-use super::rolling_spec::SensorAccountingSpec;
 use super::{RoadSummary, RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::fidelity::cap_sensors::{cap_sensor_forces_by_step, road_frame_field};
 use crate::shared::{Field, Material};
@@ -44,7 +43,7 @@ impl CapRecount {
         spec: &RollingSpec,
         options: &RunOptions<'_>,
     ) -> Result<Option<Self>, ScenarioError> {
-        if spec.sensor_accounting != Some(SensorAccountingSpec::Caps) || spec.sensors.is_empty() {
+        if !spec.sensors_on_caps() || spec.sensors.is_empty() {
             return Ok(None);
         }
         let refused = |why: String| {

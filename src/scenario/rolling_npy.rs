@@ -28,8 +28,10 @@ pub(super) fn npy_window_road(
     let Some(path) = npy_file(texture, options) else {
         return Ok(None);
     };
-    if scenario.rolling.as_ref().and_then(|r| r.sensor_accounting)
-        == Some(super::rolling_spec::SensorAccountingSpec::Caps)
+    if scenario
+        .rolling
+        .as_ref()
+        .is_some_and(|r| r.sensors_on_caps())
     {
         return Err(ScenarioError::Invalid(format!(
             "[rolling] sensor_accounting = \"caps\" needs the whole map, and {} is read in \

@@ -180,6 +180,12 @@ impl SyntheticRoadSpec {
 }
 
 impl RollingSpec {
+    /// Whether the sensors are recounted on the caps (`sensor_accounting
+    /// = "caps"`).
+    pub(super) fn sensors_on_caps(&self) -> bool {
+        self.sensor_accounting == Some(SensorAccountingSpec::Caps)
+    }
+
     /// The library configuration.
     pub fn config(&self) -> Result<rolling::RollingConfig, ScenarioError> {
         let tread = match self.tread {

@@ -65,9 +65,7 @@ impl Scenario {
     /// # Errors
     /// [`ScenarioError::Invalid`] naming the key and the gathered run.
     pub fn check_streamed(&self) -> Result<(), ScenarioError> {
-        let caps = self.rolling.as_ref().and_then(|r| r.sensor_accounting)
-            == Some(super::rolling_spec::SensorAccountingSpec::Caps);
-        if caps {
+        if self.rolling.as_ref().is_some_and(|r| r.sensors_on_caps()) {
             return Err(ScenarioError::Invalid(
                 "[rolling] sensor_accounting = \"caps\" recounts the whole records at the \
                  end: gather them (`mpi-run --gather`) or use \"run\""

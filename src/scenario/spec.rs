@@ -488,7 +488,7 @@ impl Scenario {
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [rolling] section".into()))?;
         let mut config = spec.config()?;
-        if spec.sensor_accounting == Some(super::rolling_spec::SensorAccountingSpec::Caps) {
+        if spec.sensors_on_caps() {
             // Each cap is solved on the texture's own grid, elastically.
             let refusal = if self.texture.is_none() {
                 Some("needs a [texture] (the caps are its segmentation's basins)")
