@@ -1,16 +1,19 @@
 //! Reading scans (PNG/TIFF, 8/16 bit, grey/RGB, resolution) and bad input.
 
 use std::io::Cursor;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use image::{ImageBuffer, ImageFormat, Luma, Rgb};
 use tyreroad_core::Field;
 use tyreroad_film::*;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tyreroad-film-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&d).ok();
-    d.join(name)
+/// A scratch folder removed when the test ends (passed or failed), so the
+/// machine's temporary folder does not collect one per test run.
+fn scratch() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("tyreroad-film-tests-")
+        .tempdir()
+        .expect("a scratch folder in the temporary directory")
 }
 
 const W: u32 = 7;
@@ -24,6 +27,8 @@ fn g_of(x: u32, y: u32) -> f64 {
 
 #[test]
 fn reads_8_and_16_bit_grey_and_rgb_png_and_tiff() -> Result<()> {
+    let dir = scratch();
+    let tmp = |name: &str| dir.path().join(name);
     for fmt in [ImageFormat::Png, ImageFormat::Tiff] {
         let ext = if fmt == ImageFormat::Png {
             "png"
