@@ -214,6 +214,7 @@ impl StepCoupling<CalibratedLaw> for FieldRolling {
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
         let words = [
             self.options.tolerance.to_bits(),
+            self.acceptable_tolerance().to_bits(),
             self.options.max_rounds as u64,
             self.reach.near.to_bits(),
             self.reach.far.to_bits(),

@@ -24,7 +24,7 @@
 //! spread, placed at its contact point, instead of the law's Hertz or cone
 //! disc ([`crate::Sensor::share_spread`]).
 
-use tyreroad_multipoint::{PairCorrection, Problem, SolveError};
+use tyreroad_multipoint::{Convergence, PairCorrection, Problem, Solution, SolveError};
 
 /// The state of one step that a correction is computed from.
 #[derive(Debug)]
@@ -70,6 +70,16 @@ pub trait StepCoupling<L>: Sync {
     /// Most rounds of the fixed point at one step.
     fn max_rounds(&self) -> usize;
 
+    /// A fixed point whose rounds are spent with its last change at or
+    /// under this fraction of the scale is kept, marked stagnated
+    /// ([`crate::StepStatus::Stagnated`], its residual that change); above
+    /// it the step fails. Default ten times [`Self::tolerance`]: a fixed
+    /// point that stalls there (a contact at the edge of its patch
+    /// flipping between rounds) is as settled as its coupling can tell.
+    fn acceptable_tolerance(&self) -> f64 {
+        10.0 * self.tolerance()
+    }
+
     /// What the coupling changes in the results, for the checkpoint key
     /// (two couplings that may give different records differ here).
     fn key(&self) -> u64;
@@ -84,9 +94,99 @@ pub trait StepCoupling<L>: Sync {
     fn settled(&self, _rounds: usize) {}
 }
 
-/// A step's correction kept for the next step's warm start, by road-local
-/// ids.
-pub(crate) type KeptCorrection = Vec<(usize, usize, f64)>;
+/// A coupled step's correction kept for the next step's warm start (the
+/// elastic step and the viscoelastic one): each corrected pair's whole
+/// kernel `T_ij + C_ij`, by road-local ids, with the point kernel
+/// `T_ij = f / r_ij` at that step's contact points added back, so that the
+/// next step subtracts its own `T_ij` at its own contact points.
+///
+/// Why the whole kernel: the contact points move between steps, and for
+/// contacts a fraction of a millimetre apart (the tiles of one split
+/// plateau) `1/r_ij` changes by more than the field coupling itself.
+/// Carrying `C_ij` alone made `T + C` at the next step far from any field
+/// coupling: the warm-started solve of porous asphalt's tiles then failed
+/// on every other step (docs/rolling.md, "Coupled steps").
+#[derive(Clone, Debug, Default)]
+pub struct KeptCoupling {
+    pairs: Vec<(usize, usize, f64)>,
+}
+
+impl KeptCoupling {
+    /// Forget the kept pairs (after a failed step, or a step read back from
+    /// a checkpoint): the next fixed point starts afresh.
+    pub fn clear(&mut self) {
+        self.pairs.clear();
+    }
+
+    /// Keep `correction` (local indices into `ids`, solved with contact
+    /// points `points` and Boussinesq factor `factor`).
+    pub fn keep(
+        &mut self,
+        ids: &[usize],
+        correction: &PairCorrection,
+        points: &[[f64; 2]],
+        factor: f64,
+    ) {
+        self.pairs = correction
+            .pairs()
+            .iter()
+            .map(|&(a, b, c)| (ids[a], ids[b], c + factor / distance(points[a], points[b])))
+            .collect();
+    }
+
+    /// The kept pairs whose both asperities are in `ids`, as a correction
+    /// at this step's contact points `points` (factor `factor`). `index` is
+    /// a road-sized scratch map, `usize::MAX` everywhere on entry and on
+    /// return.
+    ///
+    /// # Errors
+    /// A correction that is not valid for `ids.len()` asperities (cannot
+    /// happen for kept pairs).
+    pub fn warm(
+        &self,
+        ids: &[usize],
+        points: &[[f64; 2]],
+        factor: f64,
+        index: &mut [usize],
+    ) -> Result<PairCorrection, SolveError> {
+        for (a, &i) in ids.iter().enumerate() {
+            index[i] = a;
+        }
+        let pairs: Vec<_> = self
+            .pairs
+            .iter()
+            .filter_map(|&(i, j, whole)| {
+                let (a, b) = (index[i], index[j]);
+                if a == usize::MAX || b == usize::MAX {
+                    return None;
+                }
+                let c = whole - factor / distance(points[a], points[b]);
+                c.is_finite().then_some((a, b, c))
+            })
+            .collect();
+        for &i in ids {
+            index[i] = usize::MAX;
+        }
+        PairCorrection::new(ids.len(), pairs)
+    }
+}
+
+/// A coupled step's last solve `s` after its fixed point spent its rounds
+/// with `change` as the last change: kept, marked stagnated, when `change`
+/// is within `acceptable` ([`StepCoupling::acceptable_tolerance`]), else
+/// `None` (the step fails).
+pub fn stalled_fixed_point(mut s: Solution, change: f64, acceptable: f64) -> Option<Solution> {
+    (change <= acceptable).then(|| {
+        s.residual = s.residual.max(change);
+        s.convergence = Convergence::Stagnated { residual: change };
+        s
+    })
+}
+
+/// Distance between two points of the road plane.
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
 
 /// The damping of a coupled step's fixed point, shared by the elastic
 /// step and the viscoelastic one (docs/rolling.md, "Coupled steps"): from
@@ -157,5 +257,57 @@ impl FixedPointDamping {
         }
         self.previous = change;
         change
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    /// Regression (porous asphalt's tiles, 2026-11-29): the warm start of
+    /// the next step keeps each pair's whole kernel `T + C`, not `C`, when
+    /// the contact points move; pairs that left the selection are dropped.
+    #[test]
+    fn the_kept_coupling_is_the_whole_kernel_at_the_new_contact_points() {
+        let f = 3.0e-8;
+        let ids = [7, 2, 5];
+        let before = [[0.0, 0.0], [0.3e-3, 0.0], [0.0, 2.0e-3]];
+        let c = PairCorrection::new(3, vec![(0, 1, -40.0e-6), (0, 2, 1.0e-6)]).unwrap();
+        let mut kept = KeptCoupling::default();
+        kept.keep(&ids, &c, &before, f);
+        // The next step: asperity 7 and 2 selected in another order, their
+        // contact points moved closer; 5 no longer selected.
+        let next_ids = [2, 9, 7];
+        let after = [[0.25e-3, 0.0], [5.0e-3, 0.0], [0.05e-3, 0.0]];
+        let mut index = vec![usize::MAX; 10];
+        let warm = kept.warm(&next_ids, &after, f, &mut index).unwrap();
+        assert!(index.iter().all(|&i| i == usize::MAX));
+        assert_eq!(warm.len(), 1);
+        let (a, b, c_new) = warm.pairs()[0];
+        assert_eq!((a.min(b), a.max(b)), (0, 2));
+        let whole_before = -40.0e-6 + f / 0.3e-3;
+        let whole_after = c_new + f / 0.2e-3;
+        assert!(
+            (whole_after - whole_before).abs() <= 1e-12 * whole_before.abs(),
+            "{whole_after} vs {whole_before}"
+        );
+        kept.clear();
+        assert!(
+            kept.warm(&next_ids, &after, f, &mut index)
+                .unwrap()
+                .is_empty()
+        );
+    }
+
+    #[test]
+    fn a_fixed_point_stalled_within_the_acceptable_tolerance_is_kept_as_stagnated() {
+        let s = Solution::warm_start(vec![1.0, 2.0], vec![1e-4, 2e-4], 3e-4);
+        let kept = stalled_fixed_point(s.clone(), 4e-6, 1e-5).unwrap();
+        assert_eq!(kept.convergence, Convergence::Stagnated { residual: 4e-6 });
+        assert!(kept.residual >= 4e-6);
+        assert_eq!(kept.forces, s.forces);
+        assert!(stalled_fixed_point(s, 2e-5, 1e-5).is_none());
     }
 }

@@ -135,7 +135,9 @@ mod tread;
 
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl, path_steps};
-pub use coupling::{CouplingState, FixedPointDamping, Spread, StepCoupling};
+pub use coupling::{
+    CouplingState, FixedPointDamping, KeptCoupling, Spread, StepCoupling, stalled_fixed_point,
+};
 pub use placement::Placement;
 pub use record::{
     Recovery, RollingResult, StepRecord, StepStatus, interpolate_failed, recovery_name,

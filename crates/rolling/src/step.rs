@@ -8,7 +8,9 @@ use tyreroad_multipoint::{
     SolverOptions, overlapping_contacts, solve_corrected, solve_from,
 };
 
-use crate::coupling::{CouplingState, FixedPointDamping, KeptCorrection, StepCoupling};
+use crate::coupling::{
+    CouplingState, FixedPointDamping, KeptCoupling, StepCoupling, stalled_fixed_point,
+};
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
@@ -295,7 +297,7 @@ pub(crate) struct Scratch {
     pub(crate) dense: Vec<f64>,
     pub(crate) ids: Vec<usize>,
     pub(crate) index: Vec<usize>,
-    pub(crate) correction: KeptCorrection,
+    pub(crate) correction: KeptCoupling,
     /// The last settled deformation slope of each asperity (road-local id;
     /// zero where none): the next step's first guess.
     pub(crate) slopes: Vec<[f64; 2]>,
@@ -307,7 +309,7 @@ impl Scratch {
             dense: vec![0.0; len],
             ids: Vec::new(),
             index: vec![usize::MAX; len],
-            correction: Vec::new(),
+            correction: KeptCoupling::default(),
             slopes: vec![[0.0, 0.0]; len],
         }
     }
@@ -377,26 +379,18 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     // The previous step's correction on the pairs still selected, in this
     // step's indices: the warm start of the coupling's fixed point.
     let warm_correction = match coupling {
-        Some(_) => {
-            for (a, &i) in ids.iter().enumerate() {
-                scratch.index[i] = a;
-            }
-            let pairs: Vec<_> = scratch
-                .correction
-                .iter()
-                .filter_map(|&(i, j, c)| {
-                    let (a, b) = (scratch.index[i], scratch.index[j]);
-                    (a != usize::MAX && b != usize::MAX).then_some((a, b, c))
-                })
-                .collect();
-            for &i in &ids {
-                scratch.index[i] = usize::MAX;
-            }
-            PairCorrection::new(ids.len(), pairs).map_err(|source| RollingError::Solve {
+        Some(_) => scratch
+            .correction
+            .warm(
+                &ids,
+                problem.positions(),
+                material.boussinesq_factor(),
+                &mut scratch.index,
+            )
+            .map_err(|source| RollingError::Solve {
                 position: xc,
                 source,
-            })?
-        }
+            })?,
         None => PairCorrection::default(),
     };
     // Warm start: previous forces mapped by asperity id, new ones at 0.
@@ -456,11 +450,12 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
             )?;
             match fixed {
                 Ok((solution, correction)) => {
-                    scratch.correction = correction
-                        .pairs()
-                        .iter()
-                        .map(|&(a, b, c)| (ids[a], ids[b], c))
-                        .collect();
+                    scratch.correction.keep(
+                        &ids,
+                        &correction,
+                        problem.positions(),
+                        material.boussinesq_factor(),
+                    );
                     Ok(solution)
                 }
                 Err(e) => Err(e),
@@ -563,8 +558,23 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
 ) -> Result<Result<(Solution, PairCorrection), SolveError>, RollingError> {
     let mut iterations = 0;
+    let mut used = warm.clone();
     let mut s = match solve_corrected(problem, control, options, initial, warm) {
         Ok(s) => s,
+        Err(e) if initial.is_none() && warm.is_empty() => return Ok(Err(e)),
+        // The previous step's state did not carry over (its correction was
+        // computed for the previous contact points): a cold start, which
+        // the rounds below correct, before the step is called failed.
+        Err(SolveError::NotConverged {
+            iterations: spent, ..
+        }) => {
+            iterations += spent;
+            used = PairCorrection::default();
+            match solve_corrected(problem, control, options, None, &used) {
+                Ok(s) => s,
+                Err(e) => return Ok(Err(e)),
+            }
+        }
         Err(e) => return Ok(Err(e)),
     };
     iterations += s.iterations;
@@ -589,7 +599,6 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     let mut offsets = offsets_of(problem);
     let mut change = f64::INFINITY;
     let mut damping = FixedPointDamping::default();
-    let mut used = warm.clone();
     for round in 1..=coupling.max_rounds() {
         // The deformed tread's slopes follow the last round's forces; the
         // contact points, gaps and kernel move with them.
@@ -630,6 +639,10 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
             s.iterations = iterations;
             return Ok(Ok((s, used)));
         }
+    }
+    s.iterations = iterations;
+    if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
+        return Ok(Ok((s, used)));
     }
     Ok(Err(SolveError::NotConverged {
         iterations,

@@ -80,8 +80,8 @@ use tyreroad_multipoint::{
     Control, PairCorrection, Par, Problem, SolveError, SolverOptions, solve_from,
 };
 use tyreroad_rolling::{
-    Progress, ProgressFn, Road, RollingConfig, RollingControl, RollingError, RollingResult,
-    StepCoupling, StepRecord, step_problem,
+    KeptCoupling, Progress, ProgressFn, Road, RollingConfig, RollingControl, RollingError,
+    RollingResult, StepCoupling, StepRecord, step_problem,
 };
 
 use crate::history::step_coefficients;
@@ -300,9 +300,9 @@ struct Runner<'r, L> {
     bands: Vec<Bands>,
     /// The caller's pair correction of each step ([`roll_viscoelastic_coupled`]).
     coupling: Option<&'r dyn StepCoupling<L>>,
-    /// The previous step's correction by road ids, at the laws' reference
+    /// The previous step's coupling by road ids, at the laws' reference
     /// modulus: the next step's warm start (empty after a failed step).
-    kept: Vec<(usize, usize, f64)>,
+    kept: KeptCoupling,
     /// Scratch: road id → index in the step (`usize::MAX` elsewhere).
     index: Vec<usize>,
 }
@@ -344,7 +344,7 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 Receding::Ting { .. } => vec![Bands::default(); n],
             },
             coupling,
-            kept: Vec::new(),
+            kept: KeptCoupling::default(),
             index: vec![usize::MAX; n],
         }
     }

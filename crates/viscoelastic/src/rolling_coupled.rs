@@ -52,7 +52,7 @@ use tyreroad_multipoint::{
 };
 use tyreroad_rolling::{
     CouplingState, FixedPointDamping, Road, RollingConfig, RollingError, StepCoupling, StepRecord,
-    contact_point,
+    contact_point, stalled_fixed_point,
 };
 
 use super::{Runner, ViscoRollOptions, ViscoRolling, roll_with, warm_start};
@@ -139,7 +139,15 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             .collect();
         let raised = self.point_raise(&ids, &points, elastic.gaps(), step.material, xc);
         let memory: Vec<f64> = ids.iter().map(|&i| -self.history[i]).collect();
-        let warm = self.kept_correction(&ids).map_err(solve_error)?;
+        let warm = self
+            .kept
+            .warm(
+                &ids,
+                &points,
+                self.reference.boussinesq_factor(),
+                &mut self.index,
+            )
+            .map_err(solve_error)?;
         let mut dense = std::mem::take(&mut self.dense);
         let frame = Frame {
             ids: &ids,
@@ -192,11 +200,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             step.coefficients,
             step.relaxed,
         );
-        self.kept = used
-            .pairs()
-            .iter()
-            .map(|&(a, b, c)| (ids[a], ids[b], c))
-            .collect();
+        self.kept
+            .keep(&ids, &used, &points, self.reference.boussinesq_factor());
         self.carry = Some((ids, solution.forces, solution.approach));
         Ok((record, shrinking))
     }
@@ -299,6 +304,10 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 return Ok(Ok((s, used)));
             }
         }
+        s.iterations = iterations;
+        if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
+            return Ok(Ok((s, used)));
+        }
         Ok(Err(SolveError::NotConverged {
             iterations,
             load_steps: 0,
@@ -363,26 +372,6 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 h + factor * raise
             })
             .collect()
-    }
-
-    /// The previous step's correction on the pairs still selected, in this
-    /// step's indices (the warm start of the fixed point).
-    fn kept_correction(&mut self, ids: &[usize]) -> Result<PairCorrection, SolveError> {
-        for (a, &i) in ids.iter().enumerate() {
-            self.index[i] = a;
-        }
-        let pairs = self
-            .kept
-            .iter()
-            .filter_map(|&(i, j, c)| {
-                let (a, b) = (self.index[i], self.index[j]);
-                (a != usize::MAX && b != usize::MAX).then_some((a, b, c))
-            })
-            .collect();
-        for &i in ids {
-            self.index[i] = usize::MAX;
-        }
-        PairCorrection::new(ids.len(), pairs)
     }
 }
 
