@@ -231,3 +231,73 @@ fn a_negative_texture_threshold_is_refused() {
         &["[texture] min_prominence"],
     );
 }
+
+/// Regression (adversarial run, 2026-11-29): `chunks` equal to the path's
+/// steps was refused when `(end − start) / step` rounded a hair under the
+/// count (25 to 45 mm by 2 mm: 11 steps, the ratio 10.999999999999998).
+#[test]
+fn chunks_up_to_the_path_s_own_step_count_are_accepted() {
+    let path = "start = \"25 mm\"\nend = \"45 mm\"\nstep = \"2 mm\"";
+    let base = SMALL_ROLLING.replacen(
+        "start = \"40 mm\"\nend = \"79 mm\"\nstep = \"1 mm\"",
+        path,
+        1,
+    );
+    assert!(base.contains(path), "the fixture's path lines moved");
+    let with = |k: usize| base.replacen(path, &format!("{path}\nchunks = {k}"), 1);
+    assert!(Scenario::parse(&with(11), "eleven").is_ok());
+    refusal(
+        &with(11),
+        "chunks = 11",
+        "chunks = 12",
+        &["[rolling] chunks", "1 to the 11 steps"],
+    );
+}
+
+/// Regression (adversarial run, 2026-11-29): `cargo xtask rolling-bem
+/// --fidelity wilke --calibrate-under tread` ran, ignoring the option,
+/// where the same keys in a scenario are refused. A runner that sets
+/// `[model]` after the parse checks it again with `Scenario::check_model`.
+#[test]
+fn model_keys_set_after_the_parse_are_checked_as_the_parse_checks_them() {
+    let mut scenario = Scenario::parse(TEXTURE_ROLLING, "dense").expect("the fixture parses");
+    scenario.model.calibrate_under = Some("tread".into());
+    assert!(
+        scenario.check_model().is_ok(),
+        "calibrated (the default) takes tread"
+    );
+    scenario.model.fidelity = Some("wilke".into());
+    let message = scenario
+        .check_model()
+        .expect_err("wilke under the tread")
+        .to_string();
+    assert!(message.contains("[model] calibrate_under"), "{message}");
+    scenario.model.calibrate_under = None;
+    scenario.model.fidelity = Some("clustered".into());
+    let message = scenario
+        .check_model()
+        .expect_err("clustered in rolling")
+        .to_string();
+    assert!(message.contains("[model] fidelity"), "{message}");
+}
+
+/// Regression (adversarial run, 2026-11-29): `distributed` or `clustered`
+/// with `[texture] max_cap_width` failed only at the first solve meeting a
+/// split plateau, in solver terms. Refused when the scenario is read.
+#[test]
+fn rungs_that_cannot_couple_tiles_are_refused_with_max_cap_width() {
+    let text = "name = \"tiles\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+        [model]\nfidelity = \"distributed\"\n[static]\nloads = [\"5 N\"]\n\
+        [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\nmax_cap_width = \"2 mm\"\n\
+        [texture.synth]\nkind = \"porous_asphalt\"\nnx = 100\nny = 100\nspacing = \"0.1 mm\"\nseed = 2006\n";
+    for rung in ["distributed", "clustered"] {
+        refusal(
+            text,
+            "fidelity = \"distributed\"",
+            &format!("fidelity = \"{rung}\""),
+            &["[model] fidelity", "max_cap_width"],
+        );
+    }
+    let calibrated = text.replacen("\"distributed\"", "\"calibrated\"", 1);
+    assert!(Scenario::parse(&calibrated, "tiles").is_ok());
+}

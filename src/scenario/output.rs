@@ -74,6 +74,18 @@ impl OutputSet {
                 ),
             });
         }
+        // An existing file in the folder's place: said so, not as the
+        // system's "File exists" of the creation below.
+        if dir.exists() && !dir.is_dir() {
+            return Err(ScenarioError::Io {
+                action: "writing outputs into",
+                path: dir,
+                source: std::io::Error::new(
+                    std::io::ErrorKind::AlreadyExists,
+                    "it is a file, not a folder: give a folder (new or existing) for the outputs",
+                ),
+            });
+        }
         swap::prepare(&dir)?;
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
         remove_stale_staging(&dir)?;
@@ -737,5 +749,26 @@ mod tests {
                 .is_some_and(|e| e.contains("not an output folder")),
             "{err:?}"
         );
+    }
+
+    /// Regression (adversarial run, 2026-11-29): `--out FILE` said only
+    /// "creating FILE: File exists"; it now says the path is a file, and
+    /// the file is left as it was.
+    #[test]
+    fn an_output_path_that_is_a_file_is_refused_as_a_file() -> Result<(), ScenarioError> {
+        let dir = tempfile::tempdir().map_err(ScenarioError::io("creating", "tempdir"))?;
+        let file = dir.path().join("results");
+        fs::write(&file, b"keep").map_err(ScenarioError::io("writing", &file))?;
+        let err = OutputSet::new(&file).err().map(|e| e.to_string());
+        assert!(
+            err.as_deref()
+                .is_some_and(|e| e.contains("it is a file, not a folder")),
+            "{err:?}"
+        );
+        assert_eq!(
+            fs::read(&file).map_err(ScenarioError::io("reading", &file))?,
+            b"keep"
+        );
+        Ok(())
     }
 }

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use serde::Serialize;
 use tyreroad::bem_rolling::{
     BemRollingOptions, BemRollingRun, SignalComparison, Stretch, compare_references,
@@ -35,21 +35,27 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     let mut scenario = Scenario::from_path(&args.scenario)?;
     // Before the viscoelastic branch: its multipoint run takes the rung too.
     if let Some(name) = &args.fidelity {
-        let fidelity: Fidelity = name.parse()?;
-        if !matches!(
-            fidelity,
-            Fidelity::Wilke | Fidelity::Calibrated | Fidelity::CalibratedFields
-        ) {
+        let rolls = matches!(
+            name.parse::<Fidelity>(),
+            Ok(Fidelity::Wilke | Fidelity::Calibrated | Fidelity::CalibratedFields)
+        );
+        if !rolls {
             anyhow::bail!(
-                "--fidelity {name}: rolling takes \"wilke\", \"calibrated\" or \"calibrated_fields\""
+                "--fidelity {name:?}: rolling takes \"wilke\", \"calibrated\" or \"calibrated_fields\""
             );
         }
         scenario.model.fidelity = Some(name.clone());
     }
     if let Some(name) = &args.calibrate_under {
         scenario.model.calibrate_under = Some(name.clone());
-        // A bad name is refused here, before any solve.
-        scenario.model.calibrate_under()?;
+    }
+    if args.fidelity.is_some() || args.calibrate_under.is_some() {
+        // The options checked together with the scenario as its own
+        // `[model]` keys would be, before any solve (`--calibrate-under
+        // tread` with `--fidelity wilke` is refused, not ignored).
+        scenario
+            .check_model()
+            .context("--fidelity / --calibrate-under with this scenario")?;
     }
     if args.elastic {
         // The elastic runs of a viscoelastic comparison keep its rung (a

@@ -90,6 +90,14 @@ fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
             say!("  run {}: {e}", r.index);
         }
     }
+    // A failed run is its row's failure; a sweep none of whose runs ran
+    // produced nothing, and a script calling it must see that.
+    if !rows.is_empty() && failed == rows.len() {
+        anyhow::bail!(
+            "every run of the sweep failed (each row of {} says why)",
+            out.join("sweep.csv").display()
+        );
+    }
     Ok(())
 }
 
@@ -197,4 +205,35 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
     let run = scenario.finish_streamed(&options, signals, gathered.resumed)?;
     crate::rolling_cmd::report_streamed(&run, set, &args.out)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(index: usize, outcome: Result<RunSummary, String>) -> SweepRow {
+        SweepRow {
+            index,
+            params: vec![("load".into(), format!("{index}"))],
+            outcome,
+        }
+    }
+
+    /// Regression (adversarial run, 2026-11-29): a sweep all of whose runs
+    /// failed exited 0. Its table is still written; the command fails.
+    #[test]
+    fn a_sweep_whose_every_run_failed_is_an_error_with_its_table_written() -> Result<()> {
+        let out =
+            std::env::temp_dir().join(format!("tyreroad-sweep-failed-{}", std::process::id()));
+        let all_failed = [row(0, Err("bad".into())), row(1, Err("worse".into()))];
+        let e = write_table(&all_failed, &out).expect_err("every run failed");
+        assert!(
+            e.to_string().contains("every run of the sweep failed"),
+            "{e}"
+        );
+        let table = std::fs::read_to_string(out.join("sweep.csv"))?;
+        assert!(table.contains("bad") && table.contains("worse"), "{table}");
+        std::fs::remove_dir_all(&out)?;
+        Ok(())
+    }
 }
