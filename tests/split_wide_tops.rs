@@ -217,12 +217,14 @@ fn a_static_scenario_of_the_split_mesa_runs_each_calibrated_rung() -> TestResult
         }
     }
     // Forced clusters cannot be formed on a solve that cancels the tiles'
-    // kernel: the run is refused by name, not answered wrongly.
+    // kernel: the scenario is refused by name when it is read, not
+    // answered wrongly.
     let clustered = run("clustered", "max_cap_width = \"4 mm\"\n");
     assert!(
-        clustered
-            .as_ref()
-            .is_err_and(|e| e.to_string().contains("split into tiles")),
+        clustered.as_ref().is_err_and(|e| {
+            let e = e.to_string();
+            e.contains("[model] fidelity") && e.contains("max_cap_width")
+        }),
         "{:?}",
         clustered.map(|s| s.runs.len())
     );
