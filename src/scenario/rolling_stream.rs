@@ -75,17 +75,6 @@ impl Scenario {
         Ok(())
     }
 
-    /// `[model]`'s rung and what its caps are calibrated under, checked
-    /// again against the rest of the scenario: for a runner that set them
-    /// after the scenario was read (a command-line option), as
-    /// [`Scenario::parse`] checks them.
-    ///
-    /// # Errors
-    /// [`ScenarioError::Value`] naming the `[model]` key, as the parse would.
-    pub fn check_model(&self) -> Result<(), ScenarioError> {
-        super::check::check_fidelity(self)
-    }
-
     /// The run made of the signals of records written elsewhere as they
     /// arrived (every step of the path, in order): the road summary and the
     /// spectra exactly as [`Scenario::finish_rolling`] gives them from the

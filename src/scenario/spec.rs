@@ -434,6 +434,17 @@ impl Scenario {
             .unwrap_or_else(|| self.default_fidelity()))
     }
 
+    /// `[model]`'s rung and what its caps are calibrated under, checked
+    /// again against the rest of the scenario: for a runner that set them
+    /// after the scenario was read (a command-line option), as
+    /// [`Scenario::parse`] checks them.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Value`] naming the `[model]` key, as the parse would.
+    pub fn check_model(&self) -> Result<()> {
+        super::check::check_fidelity(self)
+    }
+
     /// The rung a scenario takes without `[model] fidelity`: the best rung
     /// that keeps issue 15's cost targets for its kind of run.
     /// `calibrated` for an elastic `[rolling]` run on a `[texture]` (a first
