@@ -28,7 +28,7 @@
 use std::sync::Arc;
 
 use crate::asperity::{CapGeometry, TabulatedCap};
-use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
+use crate::contact_law::{C_SPHERE, ContactLaw, LawError, LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
@@ -359,6 +359,97 @@ impl TextureRoad {
             .map(|(&k, law)| equivalent_radius(&self.segmentation.asperities()[k], law))
             .collect()
     }
+
+    /// The depth (m, set order) to which each kept asperity's cap is
+    /// tabulated ([`CapGeometry::max_depth`]: its basin's floor by
+    /// default). Pressed deeper, its whole basin is in contact and its law
+    /// continues on vertical walls ([`pressed_past_caps`] names them).
+    pub fn cap_depths(&self) -> Vec<f64> {
+        self.set
+            .laws()
+            .iter()
+            .map(|law| law.geometry().max_depth())
+            .collect()
+    }
+}
+
+/// An asperity pressed deeper than its cap is tabulated
+/// ([`TextureRoad::cap_depths`]): its whole basin is in contact, and its
+/// law's force there is a vertical-wall extrapolation, not the road's
+/// shape (a spike on a flat map, pressed through to the flat, is one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PastCap {
+    /// Asperity index (set order).
+    pub index: usize,
+    /// Its interpenetration `δ_i` (m).
+    pub depth: f64,
+    /// The depth its cap is tabulated to (m).
+    pub cap_depth: f64,
+}
+
+impl std::fmt::Display for PastCap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "pressed {:.3} mm into a cap tabulated to {:.3} mm: its whole basin is in \
+             contact, and past that depth its law is an extrapolation (vertical walls), \
+             not the road's shape",
+            self.depth * 1e3,
+            self.cap_depth * 1e3
+        )
+    }
+}
+
+/// The asperities whose interpenetration `depths[i]` (m) exceeds the
+/// depth `cap_depths[i]` their caps are tabulated to (both in set order).
+pub fn pressed_past_caps(cap_depths: &[f64], depths: &[f64]) -> Vec<PastCap> {
+    cap_depths
+        .iter()
+        .zip(depths)
+        .enumerate()
+        .filter(|&(_, (&cap_depth, &depth))| depth > cap_depth * (1.0 + 1e-9))
+        .map(|(index, (&cap_depth, &depth))| PastCap {
+            index,
+            depth,
+            cap_depth,
+        })
+        .collect()
+}
+
+/// What a rolling run on a texture road's Wilke laws is told when some
+/// contacts were pressed past the depth their caps are tabulated to
+/// ([`TextureRoad::cap_depths`]; `None` when none were): the steps, the
+/// contacts over all steps, and the largest force over the law's force at
+/// its cap depth. A law is monotone in the depth, so a force above that is
+/// a depth below the cap.
+pub fn rolling_past_caps_warning(
+    road: &crate::rolling::Road<TextureLaw>,
+    result: &crate::rolling::RollingResult,
+) -> Option<String> {
+    let (mut steps, mut contacts, mut worst) = (0, 0, 0.0_f64);
+    for step in &result.steps {
+        let mut here = 0;
+        for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
+            let Some(law) = road.local_id(id).and_then(|k| road.laws().get(k)) else {
+                continue;
+            };
+            let at_cap = law.force(law.geometry().max_depth());
+            if at_cap > 0.0 && force > at_cap * (1.0 + 1e-9) {
+                here += 1;
+                worst = worst.max(force / at_cap);
+            }
+        }
+        contacts += here;
+        steps += usize::from(here > 0);
+    }
+    (contacts > 0).then(|| {
+        format!(
+            "at {steps} step(s) {contacts} contact(s) were pressed past the depth their caps \
+             are tabulated to (up to {worst:.2}× the force there): their whole basins were in \
+             contact, and past that depth their laws are an extrapolation (vertical walls), \
+             not the road's shape (a spike pressed through to a flat around it?)"
+        )
+    })
 }
 
 /// The larger of the summit's curvature radius `√(r₁r₂)` and the secant

@@ -16,6 +16,7 @@ mod fidelity_rolling;
 mod fidelity_rolling_fields;
 mod layers;
 mod output_swap;
+mod pressed_through;
 mod refusals;
 mod road_kinds;
 mod rolling_off_road;

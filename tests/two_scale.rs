@@ -298,3 +298,35 @@ fn a_failed_local_solve_falls_back_to_hertz_with_its_reason() -> TestResult {
     );
     Ok(())
 }
+
+#[test]
+fn a_spike_pressed_to_the_floor_stops_widening_at_its_first_grid() -> TestResult {
+    use tyreroad::two_scale::LocalStatus;
+    let m = rubber()?;
+    // A sharp cone 0.3 mm high on 0.25 mm, on a flat floor: at 5 N the
+    // tread sinks onto the floor (the cone alone carries ~0.1 N at full
+    // depth) and the contact on the floor reaches every grid's edge.
+    // Widening used to run all nine grids (minutes); the floor stops it.
+    let (height, base) = (3e-4, 2.5e-4);
+    let spike = LocalShape::Custom {
+        height: Arc::new(move |dx: f64, dy: f64| -(height * dx.hypot(dy) / base).min(height)),
+        equivalent_radius: 1e-4,
+    };
+    let p = 5.0;
+    let options = TwoScaleOptions::default();
+    let ts = two_scale(&[[0.0, 0.0]], &[p], &[spike], &m, &options)?;
+    let local = &ts.local[0];
+    let LocalStatus::PressedToFloor { depth } = local.status else {
+        panic!("expected the floor, got {:?}", local.status);
+    };
+    assert!((depth - height).abs() < 1e-9 * height, "{depth}");
+    // The first grid: 2·⌈half_width · cells_across / 2⌉ + 1 cells.
+    let field = local.field.as_ref().ok_or("no field")?;
+    let first = 2 * (options.half_width * options.cells_across as f64 / 2.0).ceil() as usize + 1;
+    assert_eq!(field.grid().nx(), first);
+    assert!((local.force - p).abs() < 1e-9 * p);
+    // The tread is on the floor: approach past the spike's height.
+    assert!(local.approach > height, "{}", local.approach);
+    assert_eq!(ts.fallbacks().count(), 1);
+    Ok(())
+}

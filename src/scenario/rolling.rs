@@ -13,7 +13,7 @@ use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::texture_road::rolling_road;
+use crate::texture_road::{rolling_past_caps_warning, rolling_road};
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -184,7 +184,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
         let (set, summary, radii) = rolling_texture_road_set(texture, &options.base_dir, material)?;
         // Gaps at each cap's contact point, not its summit.
         let road = rolling_road(set, radii, summary.top)?;
-        return roll_road(
+        let mut rolled = roll_road(
             scenario,
             &road,
             RoadSummary::Texture(Box::new(summary)),
@@ -192,7 +192,15 @@ pub(crate) fn rolling_on_uncalibrated_road(
             spec,
             options,
             what,
-        );
+        )?;
+        if let Rolled::Run(run) = &mut rolled
+            && let RoadSummary::Texture(summary) = &mut run.road
+        {
+            summary
+                .warnings
+                .extend(rolling_past_caps_warning(&road, &run.result));
+        }
+        return Ok(rolled);
     }
     match (scenario.asperities.is_empty(), &spec.synthetic_road) {
         (false, None) => {

@@ -122,6 +122,9 @@ pub struct StaticSolve {
     pub result: StaticResult,
     /// Each load's local contacts, in asperity order.
     pub local_contacts: Vec<Vec<LocalContact>>,
+    /// Each load's interpenetrations `δ_i` (m; negative out of contact), in
+    /// asperity order.
+    pub depths: Vec<Vec<f64>>,
 }
 
 /// Solves a prepared problem at each of `loads` (N); `ids[k]` labels
@@ -173,6 +176,7 @@ pub fn run_static_problem_with<L: ContactLaw + Sync>(
         )));
     }
     let (mut rows, mut runs, mut locals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut depths = Vec::new();
     let mut failed_loads = Vec::new();
     for &load in loads {
         let start = Instant::now();
@@ -207,6 +211,7 @@ pub fn run_static_problem_with<L: ContactLaw + Sync>(
             convergence: s.convergence,
         });
         locals.push(contacts);
+        depths.push(s.depths);
     }
     if runs.is_empty()
         && let Some((load, why)) = failed_loads.first()
@@ -223,6 +228,7 @@ pub fn run_static_problem_with<L: ContactLaw + Sync>(
             failed_loads,
         },
         local_contacts: locals,
+        depths,
     })
 }
 

@@ -20,7 +20,10 @@ use crate::fidelity::{
     CalibratedLaw, CalibrationOptions, Calibrator, CapFallback, Coupling, FidelityError, LawSource,
     calibrated_set_or_wilke, solve_calibrated,
 };
-use crate::texture_road::{TextureLaw, TextureRoad, TextureRoadError, rolling_road, texture_road};
+use crate::texture_road::{
+    PastCap, TextureLaw, TextureRoad, TextureRoadError, pressed_past_caps, rolling_road,
+    texture_road,
+};
 use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
 
 /// What the segmentation made of a height map.
@@ -199,6 +202,9 @@ pub struct TextureLoad {
     /// Local fields (one per asperity, asperity order) and the assembled
     /// pressure map at the texture's grid spacing.
     pub two_scale: TwoScale,
+    /// The asperities pressed past the depth their caps are tabulated to
+    /// (whole basin in contact: the law's answer is an extrapolation).
+    pub past_caps: Vec<PastCap>,
 }
 
 /// A static run on a texture.
@@ -245,6 +251,7 @@ pub(crate) fn run_texture_static(
     // run reports it from the map's highest point, as the BEM and a
     // rolling run on the same map do (`TextureRoad::top`).
     let plane_shift = road.top - road.set.top();
+    let cap_depths = road.cap_depths();
     let ids: Vec<u32> = (1..=road.len() as u32).collect();
     let as_problem = |context: &str| {
         let context = context.to_string();
@@ -349,7 +356,7 @@ pub(crate) fn run_texture_static(
         run.approach += plane_shift;
     }
     let mut per_load = Vec::with_capacity(statics.runs.len());
-    for r in &statics.runs {
+    for (r, depths) in statics.runs.iter().zip(&solved.depths) {
         let forces: Vec<f64> = statics
             .at_load(r.load)
             .iter()
@@ -365,6 +372,7 @@ pub(crate) fn run_texture_static(
         per_load.push(TextureLoad {
             load: r.load,
             two_scale: ts,
+            past_caps: pressed_past_caps(&cap_depths, depths),
         });
     }
     Ok(TextureResult {

@@ -109,20 +109,21 @@ fn solve_local_bem(
         let sol = solver
             .solve(&surface, bem::Control::Load(force / (s * s)))
             .map_err(bem_err)?;
-        let touches_edge = (0..m).any(|t| {
-            sol.pressure[canonical.index(t, 0)] > 0.0
-                || sol.pressure[canonical.index(t, m - 1)] > 0.0
-                || sol.pressure[canonical.index(0, t)] > 0.0
-                || sol.pressure[canonical.index(m - 1, t)] > 0.0
-        });
-        if touches_edge && attempt < attempts {
+        let touching: Vec<usize> = edge_cells(m)
+            .map(|(i, j)| canonical.index(i, j))
+            .filter(|&k| sol.pressure[k] > 0.0)
+            .collect();
+        let status = if touching.is_empty() {
+            LocalStatus::Complete
+        } else if let Some(depth) = floor_under_edge(shape, surface.values(), &touching, m, s) {
+            // The tread lies on the shape's floor at the edge: on a wider
+            // grid it would only spread further over that floor.
+            LocalStatus::PressedToFloor { depth }
+        } else if attempt < attempts {
             half_width *= 1.5;
             continue;
-        }
-        let status = if touches_edge {
-            LocalStatus::ClippedAtEdge { half_width }
         } else {
-            LocalStatus::Complete
+            LocalStatus::ClippedAtEdge { half_width }
         };
         let region = sol
             .regions(&vec![0; canonical.len()])
@@ -154,6 +155,42 @@ fn solve_local_bem(
     Err(TwoScaleError::InvalidInput(format!(
         "asperity {index}: no local grid tried"
     )))
+}
+
+/// The cells on the border of an `m × m` grid (corners twice).
+fn edge_cells(m: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..m).flat_map(move |t| [(t, 0), (t, m - 1), (0, t), (m - 1, t)])
+}
+
+/// The depth (m) below the summit of the shape's floor when the contact
+/// reaches the edge of the `m × m` canonical grid on it: one of the
+/// `touching` edge cells lies at the grid's lowest height, and the ring out
+/// to 1.5 times the grid's half-width holds no lower point (the shape is
+/// flat beyond, as a basin's floor or a sphere's base; a paraboloid or a
+/// cone still drops away there). `heights` are the canonical surface's,
+/// lengths scaled by `1/s`.
+fn floor_under_edge(
+    shape: &LocalShape,
+    heights: &[f64],
+    touching: &[usize],
+    m: usize,
+    s: f64,
+) -> Option<f64> {
+    let lowest = heights.iter().copied().fold(f64::INFINITY, f64::min);
+    let slack = 1e-9 * lowest.abs();
+    if !touching.iter().any(|&k| heights[k] <= lowest + slack) {
+        return None;
+    }
+    let half = (m / 2) as i64;
+    let reach = (3 * half + 1) / 2;
+    let drops_beyond = (-reach..=reach).any(|b| {
+        (-reach..=reach).any(|a| {
+            let beyond = a.abs() > half || b.abs() > half;
+            let (x, y) = (a as f64 * CANONICAL_CELL, b as f64 * CANONICAL_CELL);
+            beyond && shape.height(x * s, y * s) / s < lowest - slack
+        })
+    });
+    (!drops_beyond).then_some(-lowest * s)
 }
 
 /// Hertz's field `p = p0 √(1 − r²/a²)` of the equivalent radius on the

@@ -33,7 +33,11 @@
 //! what it got: [`LocalStatus::Complete`] (the contact lies inside its
 //! grid), [`LocalStatus::ClippedAtEdge`] (it still reaches the edge of the
 //! widest grid: the field is that grid's BEM solution, whose force is exact
-//! but whose area is cut by the edge), or [`LocalStatus::HertzFallback`]
+//! but whose area is cut by the edge), [`LocalStatus::PressedToFloor`]
+//! (the contact reaches the edge on the shape's floor, flat beyond: the
+//! asperity is pressed down to the surface around it and no wider grid
+//! would bound the contact, so the widening stops there), or
+//! [`LocalStatus::HertzFallback`]
 //! (its local BEM solve failed: Hertz's field for its equivalent radius,
 //! force exact, with the reason). [`TwoScale::fallbacks`] lists them.
 //!
@@ -187,6 +191,15 @@ pub enum LocalStatus {
         /// Half-width of the widest grid, in Hertz radii.
         half_width: f64,
     },
+    /// The contact reaches the edge of the local grid on the shape's floor
+    /// (its lowest level, flat beyond the grid): the asperity is pressed
+    /// down to the surface around it, which no wider grid would bound. The
+    /// field is that grid's BEM solution, carrying the exact force, on an
+    /// area cut by the edge.
+    PressedToFloor {
+        /// Depth of the floor below the summit (m).
+        depth: f64,
+    },
     /// The local BEM solve failed: Hertz's field for the equivalent radius,
     /// carrying the exact force.
     HertzFallback {
@@ -196,11 +209,12 @@ pub enum LocalStatus {
 }
 
 impl LocalStatus {
-    /// A short name for tables: `complete`, `clipped`, `hertz`.
+    /// A short name for tables: `complete`, `clipped`, `floor`, `hertz`.
     pub fn name(&self) -> &'static str {
         match self {
             Self::Complete => "complete",
             Self::ClippedAtEdge { .. } => "clipped",
+            Self::PressedToFloor { .. } => "floor",
             Self::HertzFallback { .. } => "hertz",
         }
     }
@@ -214,6 +228,12 @@ impl std::fmt::Display for LocalStatus {
                 f,
                 "contact still at the edge of the widest local grid \
                  (half-width {half_width:.3} × the Hertz radius): area cut by the edge"
+            ),
+            Self::PressedToFloor { depth } => write!(
+                f,
+                "pressed down to the surface {:.3} mm below the summit: \
+                 contact on it reaches the edge of the local grid, area cut by the edge",
+                depth * 1e3
             ),
             Self::HertzFallback { reason } => write!(f, "Hertz field instead of BEM: {reason}"),
         }

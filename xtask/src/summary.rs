@@ -43,8 +43,8 @@ impl Fallbacks {
         }
     }
 
-    /// As [`Fallbacks::from_static`], and each asperity whose two-scale
-    /// field is a lower-fidelity fallback.
+    /// As [`Fallbacks::from_static`], each asperity whose two-scale field
+    /// is a lower-fidelity fallback, and each pressed past its cap table.
     pub fn from_texture(r: &TextureResult) -> Self {
         let mut f = Self::from_static(&r.statics);
         if let Some(cal) = &r.texture.calibration {
@@ -58,6 +58,14 @@ impl Fallbacks {
                     "load {} N, asperity {id}: two-scale field {status}",
                     run.load
                 ));
+            }
+            for past in &per_load.past_caps {
+                let id = ids
+                    .get(past.index)
+                    .copied()
+                    .unwrap_or(past.index as u32 + 1);
+                f.items
+                    .push(format!("load {} N, asperity {id}: {past}", run.load));
             }
         }
         f

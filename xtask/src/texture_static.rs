@@ -121,6 +121,9 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
             fallbacks += 1;
             say!("  fallback: indenter {}: {status}", ids[k]);
         }
+        for past in &per_load.past_caps {
+            say!("  warning: indenter {}: {past}", ids[past.index]);
+        }
         if let Some(field) = &ts.map {
             let area: f64 = ts.local.iter().map(|f| f.contact_area).sum();
             say!(

@@ -1,0 +1,117 @@
+//! A spike pressed through to the flat around it: a one-cell spike on a
+//! flat map (a dropout in a scan) under a load its cap cannot carry. The
+//! run finishes (the two-scale widening stops on the floor) and says what
+//! happened, rather than hanging or answering without a word.
+
+use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+use tyreroad::texture::HeightMap;
+use tyreroad::texture::io::text::write_ascii_grid;
+use tyreroad::two_scale::LocalStatus;
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+const SPIKE: f64 = 3e-4;
+
+/// 10 × 10 points at 0.25 mm, flat, one point raised 0.3 mm.
+fn spike_map() -> Result<HeightMap, Box<dyn std::error::Error>> {
+    let mut heights = vec![0.0; 100];
+    heights[5 * 10 + 5] = SPIKE;
+    Ok(HeightMap::new(10, 10, 2.5e-4, 2.5e-4, heights)?)
+}
+
+#[test]
+fn a_spike_pressed_to_the_flat_is_named_and_its_field_stops_on_the_floor() -> TestResult {
+    let dir = tempfile::tempdir()?;
+    write_ascii_grid(&spike_map()?, dir.path().join("spike.asc"))?;
+    for fidelity in ["wilke", "calibrated"] {
+        let text = format!(
+            "name = \"spike\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [model]\nfidelity = \"{fidelity}\"\n[static]\nloads = [\"0.01 N\", \"5 N\"]\n\
+             [texture]\nfile = \"spike.asc\"\nmin_prominence = \"0.1 mm\"\n\
+             min_area = \"0.01 mm2\"\n"
+        );
+        let s = Scenario::parse(&text, "spike")?;
+        let ScenarioResult::Texture(r) = s.run(&RunOptions::new(dir.path()))? else {
+            return Err("not a texture result".into());
+        };
+        assert_eq!(r.loads.len(), 2, "{fidelity}");
+        let (light, heavy) = (&r.loads[0], &r.loads[1]);
+        // The light load stays on the spike.
+        assert!(
+            light.past_caps.is_empty(),
+            "{fidelity}: {:?}",
+            light.past_caps
+        );
+        assert_eq!(light.two_scale.fallbacks().count(), 0, "{fidelity}");
+        // 5 N sinks the tread past the spike's 0.3 mm: named, with depths.
+        let [past] = heavy.past_caps[..] else {
+            return Err(format!("{fidelity}: {:?}", heavy.past_caps).into());
+        };
+        assert!(
+            (past.cap_depth - SPIKE).abs() < 1e-9,
+            "{fidelity}: {past:?}"
+        );
+        assert!(past.depth > SPIKE, "{fidelity}: {past:?}");
+        // Its local field lies on the floor at the spike's foot, carrying
+        // the whole load.
+        let local = &heavy.two_scale.local[past.index];
+        assert!(
+            matches!(local.status, LocalStatus::PressedToFloor { depth } if (depth - SPIKE).abs() < 1e-9),
+            "{fidelity}: {:?}",
+            local.status
+        );
+        let map = heavy.two_scale.map.as_ref().ok_or("no map")?;
+        assert!((map.integral() - 5.0).abs() < 1e-9 * 5.0, "{fidelity}");
+    }
+    Ok(())
+}
+
+/// The same through a rolling run on the Wilke laws: a tyre over a 2 mm
+/// spike on a flat map is told, step count and all, that the spike's law
+/// was pressed past its cap (the Wilke approach there is the law's
+/// extrapolation); a light tyre is not.
+#[test]
+fn a_tyre_sinking_a_spike_into_the_flat_is_warned_of_it() -> TestResult {
+    use tyreroad::scenario::RoadSummary;
+    let dir = tempfile::tempdir()?;
+    let (nx, ny) = (120, 80);
+    let mut heights = vec![0.0; nx * ny];
+    heights[40 * nx + 60] = 2e-3;
+    write_ascii_grid(
+        &HeightMap::new(nx, ny, 2.5e-4, 2.5e-4, heights)?,
+        dir.path().join("spike.asc"),
+    )?;
+    let warnings = |load: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"spike\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [model]\nfidelity = \"wilke\"\n\
+             [rolling]\nstart = \"14 mm\"\nend = \"17 mm\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
+             margin = \"0 mm\"\n\
+             [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
+             length = \"20 mm\"\nwidth = \"15 mm\"\n\
+             [rolling.control]\nload = \"{load}\"\n\
+             [texture]\nfile = \"spike.asc\"\nmin_prominence = \"0.1 mm\"\nmin_area = \"0.01 mm2\"\n"
+        );
+        let s = Scenario::parse(&text, "spike")?;
+        let ScenarioResult::Rolling(run) = s.run(&RunOptions::new(dir.path()))? else {
+            return Err("not a rolling result".into());
+        };
+        let RoadSummary::Texture(t) = &run.road else {
+            return Err("not a texture road".into());
+        };
+        Ok(t.warnings.clone())
+    };
+    let heavy = warnings("200 N")?;
+    assert!(
+        heavy
+            .iter()
+            .any(|w| w.starts_with("at 4 step(s) 4 contact(s) were pressed past")),
+        "{heavy:?}"
+    );
+    let light = warnings("0.05 N")?;
+    assert!(
+        !light.iter().any(|w| w.contains("pressed past")),
+        "{light:?}"
+    );
+    Ok(())
+}
