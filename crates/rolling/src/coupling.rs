@@ -171,6 +171,63 @@ impl KeptCoupling {
     }
 }
 
+/// How a coupled step's first solve started ([`first_solve`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// From the previous step's solution and kept correction.
+    Warm,
+    /// From nothing, with no correction: the rounds then build it.
+    Cold,
+}
+
+/// A coupled step's first solve ([`first_solve`]).
+#[derive(Debug)]
+pub struct FirstSolve {
+    /// Its solution.
+    pub solution: Solution,
+    /// How it started: [`Start::Cold`] when there was nothing to carry, or
+    /// the warm solve did not converge.
+    pub start: Start,
+    /// Newton iterations spent on a warm solve that did not converge.
+    pub spent: usize,
+}
+
+/// The first solve of a coupled step: `solve(Start::Warm)` when `warm`
+/// (there is a previous step to start from), and if that does not
+/// converge, `solve(Start::Cold)` before the step is called failed. The
+/// kept state was solved at the previous contact points; where it does not
+/// carry over, a cold start, which the fixed point's rounds correct, may
+/// still succeed. Errors other than [`SolveError::NotConverged`] are not
+/// retried.
+///
+/// # Errors
+/// The cold solve's error, or the warm one's when it is not
+/// `NotConverged`.
+pub fn first_solve(
+    warm: bool,
+    mut solve: impl FnMut(Start) -> Result<Solution, SolveError>,
+) -> Result<FirstSolve, SolveError> {
+    let mut spent = 0;
+    if warm {
+        match solve(Start::Warm) {
+            Ok(solution) => {
+                return Ok(FirstSolve {
+                    solution,
+                    start: Start::Warm,
+                    spent,
+                });
+            }
+            Err(SolveError::NotConverged { iterations, .. }) => spent = iterations,
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(FirstSolve {
+        solution: solve(Start::Cold)?,
+        start: Start::Cold,
+        spent,
+    })
+}
+
 /// A coupled step's last solve `s` after its fixed point spent its rounds
 /// with `change` as the last change: kept, marked stagnated, when `change`
 /// is within `acceptable` ([`StepCoupling::acceptable_tolerance`]), else
@@ -309,5 +366,49 @@ mod tests {
         assert!(kept.residual >= 4e-6);
         assert_eq!(kept.forces, s.forces);
         assert!(stalled_fixed_point(s, 2e-5, 1e-5).is_none());
+    }
+
+    /// A warm first solve that does not converge is retried cold (and its
+    /// iterations counted); one that converges is kept; an error other
+    /// than non-convergence is not retried; with nothing to carry, one cold
+    /// solve.
+    #[test]
+    fn a_warm_first_solve_that_fails_is_retried_cold_once() {
+        let ok = || Solution::warm_start(vec![1.0], vec![1e-4], 1e-4);
+        let not_converged = || SolveError::NotConverged {
+            iterations: 40,
+            load_steps: 1,
+            residual: 1e-3,
+        };
+        let mut starts = Vec::new();
+        let first = first_solve(true, |start| {
+            starts.push(start);
+            match start {
+                Start::Warm => Err(not_converged()),
+                Start::Cold => Ok(ok()),
+            }
+        })
+        .unwrap();
+        assert_eq!(starts, [Start::Warm, Start::Cold]);
+        assert_eq!((first.start, first.spent), (Start::Cold, 40));
+
+        let first = first_solve(true, |_| Ok(ok())).unwrap();
+        assert_eq!((first.start, first.spent), (Start::Warm, 0));
+
+        let mut calls = 0;
+        let invalid = first_solve(true, |_| {
+            calls += 1;
+            Err(SolveError::InvalidInput("bad".into()))
+        });
+        assert!(matches!(invalid, Err(SolveError::InvalidInput(_))));
+        assert_eq!(calls, 1);
+
+        let mut starts = Vec::new();
+        let cold = first_solve(false, |start| {
+            starts.push(start);
+            Err(not_converged())
+        });
+        assert!(matches!(cold, Err(SolveError::NotConverged { .. })));
+        assert_eq!(starts, [Start::Cold]);
     }
 }

@@ -9,7 +9,8 @@ use tyreroad_multipoint::{
 };
 
 use crate::coupling::{
-    CouplingState, FixedPointDamping, KeptCoupling, StepCoupling, stalled_fixed_point,
+    CouplingState, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve,
+    stalled_fixed_point,
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::{
@@ -557,27 +558,21 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     coupling: &dyn StepCoupling<L>,
     (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
 ) -> Result<Result<(Solution, PairCorrection), SolveError>, RollingError> {
-    let mut iterations = 0;
-    let mut used = warm.clone();
-    let mut s = match solve_corrected(problem, control, options, initial, warm) {
-        Ok(s) => s,
-        Err(e) if initial.is_none() && warm.is_empty() => return Ok(Err(e)),
-        // The previous step's state did not carry over (its correction was
-        // computed for the previous contact points): a cold start, which
-        // the rounds below correct, before the step is called failed.
-        Err(SolveError::NotConverged {
-            iterations: spent, ..
-        }) => {
-            iterations += spent;
-            used = PairCorrection::default();
-            match solve_corrected(problem, control, options, None, &used) {
-                Ok(s) => s,
-                Err(e) => return Ok(Err(e)),
-            }
-        }
+    let carried = initial.is_some() || !warm.is_empty();
+    let first = first_solve(carried, |start| match start {
+        Start::Warm => solve_corrected(problem, control, options, initial, warm),
+        Start::Cold => solve_corrected(problem, control, options, None, &PairCorrection::default()),
+    });
+    let first = match first {
+        Ok(first) => first,
         Err(e) => return Ok(Err(e)),
     };
-    iterations += s.iterations;
+    let mut used = match first.start {
+        Start::Warm => warm.clone(),
+        Start::Cold => PairCorrection::default(),
+    };
+    let mut s = first.solution;
+    let mut iterations = first.spent + s.iterations;
     let scale = match control {
         Control::Load(w) => w,
         Control::Approach(_) => s.forces.iter().sum(),

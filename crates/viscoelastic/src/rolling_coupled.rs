@@ -51,8 +51,8 @@ use tyreroad_multipoint::{
     Control, PairCorrection, Par, Problem, Solution, SolveError, SolverOptions, solve_corrected,
 };
 use tyreroad_rolling::{
-    CouplingState, FixedPointDamping, Road, RollingConfig, RollingError, StepCoupling, StepRecord,
-    contact_point, stalled_fixed_point,
+    CouplingState, FixedPointDamping, Road, RollingConfig, RollingError, Start, StepCoupling,
+    StepRecord, contact_point, first_solve, stalled_fixed_point,
 };
 
 use super::{Runner, ViscoRollOptions, ViscoRolling, roll_with, warm_start};
@@ -228,13 +228,32 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             par: Par::Seq,
             ..SolverOptions::default()
         };
+        // Warm from the previous step, and cold (no correction) if that
+        // does not converge, as the elastic coupled step
+        // (`tyreroad_rolling::first_solve`).
+        let cold = PairCorrection::default();
+        let carried = self.carry.is_some() || !warm.is_empty();
         let (problem, c) = self.frame_problem(frame, warm).map_err(solve_error)?;
-        let initial = warm_start(self.carry.as_ref(), dense, frame.ids, &problem, &c);
-        let mut s = match solve_corrected(&problem, step.control, &options, initial.as_ref(), &c) {
-            Ok(s) => s,
+        let first = first_solve(carried, |start| match start {
+            Start::Warm => {
+                let initial = warm_start(self.carry.as_ref(), dense, frame.ids, &problem, &c);
+                solve_corrected(&problem, step.control, &options, initial.as_ref(), &c)
+            }
+            Start::Cold => {
+                let (problem, c) = self.frame_problem(frame, &cold)?;
+                solve_corrected(&problem, step.control, &options, None, &c)
+            }
+        });
+        let first = match first {
+            Ok(first) => first,
             Err(e) => return Ok(Err(e)),
         };
-        let mut iterations = s.iterations;
+        let warm = match first.start {
+            Start::Warm => warm,
+            Start::Cold => &cold,
+        };
+        let mut s = first.solution;
+        let mut iterations = first.spent + s.iterations;
         let scale = match step.control {
             Control::Load(w) => w,
             Control::Approach(_) => s.forces.iter().sum(),
