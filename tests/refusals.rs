@@ -301,3 +301,58 @@ fn rungs_that_cannot_couple_tiles_are_refused_with_max_cap_width() {
     let calibrated = text.replacen("\"distributed\"", "\"calibrated\"", 1);
     assert!(Scenario::parse(&calibrated, "tiles").is_ok());
 }
+
+/// A value of the wrong type inside a table that names its variant in
+/// `kind` (`[texture.synth]`, `[rolling.tread]`, a `shape`,
+/// `[material.viscoelastic.shift]`) names its key: such tables were read
+/// as internally tagged enums, whose buffered reading lost the key ("invalid
+/// value: integer `-1`, expected usize" and no more).
+#[test]
+fn a_wrong_type_inside_a_kind_table_names_its_key() {
+    const VISCO: &str = include_str!("../fixtures/rolling_tyre_dense_asphalt_visco.toml");
+    let message = |base: &str, from: &str, to: &str| -> String {
+        assert!(base.contains(from), "the fixture lacks {from:?}");
+        match Scenario::parse(&base.replacen(from, to, 1), "case") {
+            Ok(_) => panic!("{to:?} accepted"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let cases = [
+        (TEXTURE_ROLLING, "nx = 2000", "nx = -1", "in `nx`"),
+        (TEXTURE_ROLLING, "nx = 2000", "nx = \"2000\"", "in `nx`"),
+        (
+            TEXTURE_ROLLING,
+            "length = \"120 mm\"",
+            "length = true",
+            "in `length`",
+        ),
+        (
+            PAPER,
+            "id = 7\n",
+            "id = 7\nshape = { kind = \"sphere\", radius = true }\n",
+            "in `radius`",
+        ),
+        (
+            VISCO,
+            "kind = \"wlf\"",
+            "kind = \"wlf\"\nc1 = \"many\"",
+            "c1",
+        ),
+    ];
+    for (base, from, to, needle) in cases {
+        let m = message(base, from, to);
+        assert!(m.contains(needle), "{to:?}: {m:?} lacks {needle:?}");
+    }
+    // Unknown keys and variants are named as before; a missing `kind` is
+    // said.
+    let m = message(TEXTURE_ROLLING, "nx = 2000", "nx = 2000\nseedd = 3");
+    assert!(m.contains("unknown field `seedd`"), "{m}");
+    let m = message(
+        TEXTURE_ROLLING,
+        "kind = \"aggregate\"",
+        "kind = \"aggregat\"",
+    );
+    assert!(m.contains("unknown variant `aggregat`"), "{m}");
+    let m = message(TEXTURE_ROLLING, "kind = \"aggregate\"\n", "");
+    assert!(m.contains("missing field `kind`"), "{m}");
+}

@@ -22,6 +22,7 @@ mod bem;
 mod check;
 mod error;
 mod history;
+mod kind_tagged;
 pub mod output;
 mod ranges;
 mod rolling;

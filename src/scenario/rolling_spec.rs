@@ -84,9 +84,11 @@ pub enum SensorAccountingSpec {
     Caps,
 }
 
+super::kind_tagged::deserialize_by_kind!(TreadSpec);
+
 /// `[rolling.tread]`
 #[derive(Debug, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, remote = "Self")]
 pub enum TreadSpec {
     /// A flat rectangular block.
     Block {

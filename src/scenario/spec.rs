@@ -148,9 +148,11 @@ pub struct RoadKindSpec {
     pub seed: u64,
 }
 
+super::kind_tagged::deserialize_by_kind!(SynthSpec, ShapeSpec);
+
 /// `[texture.synth]`: the generator, its grid and seed.
 #[derive(Debug, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, remote = "Self")]
 pub enum SynthSpec {
     /// Transverse tining: 3 mm grooves, 4 mm deep, at 12.5 mm, on mortar.
     TransverseTining(RoadKindSpec),
@@ -366,7 +368,7 @@ pub struct SolverSpec {
 
 /// A shape and its law constant.
 #[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, remote = "Self")]
 pub enum ShapeSpec {
     /// A ball of radius `radius`.
     Sphere {

@@ -158,9 +158,11 @@ pub struct BranchSpec {
     pub relaxation_time: RelaxationTime,
 }
 
+super::kind_tagged::deserialize_by_kind!(ShiftSpec);
+
 /// `[material.viscoelastic.shift]`.
 #[derive(Debug, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, remote = "Self")]
 pub enum ShiftSpec {
     /// WLF: `log10 a_T = −C1 (T − T_ref)/(C2 + T − T_ref)`.
     Wlf {
