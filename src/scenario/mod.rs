@@ -50,7 +50,9 @@ pub use history::{
     RecedingSpec, SEGMENT_DURATION_RANGE, SegmentSpec, run_load_history_scenario,
     write_history_csv,
 };
-pub use ranges::{THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads};
+pub use ranges::{
+    MAX_MAP_POINTS, THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads,
+};
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;
 pub use rolling_spec::{

@@ -176,6 +176,7 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
                     lambda_long,
                     lambda_short,
                 } => {
+                    grid.check()?;
                     let p = texture::SelfAffine {
                         nx: grid.nx,
                         ny: grid.ny,
@@ -197,6 +198,7 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
                     embed_min,
                     embed_max,
                 } => {
+                    grid.check()?;
                     let mut p = texture::Aggregate::new(
                         grid.nx,
                         grid.ny,

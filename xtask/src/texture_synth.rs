@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
+use tyreroad::scenario::MAX_MAP_POINTS;
 use tyreroad::texture;
 use tyreroad::texture::roads::{self, RoadGrid};
 
@@ -147,8 +148,9 @@ pub enum RoadKind {
     },
 }
 
-fn road_grid(g: &GridArgs) -> RoadGrid {
-    RoadGrid::square(g.nx, g.ny, g.dx)
+fn road_grid(g: &GridArgs) -> Result<RoadGrid> {
+    g.check()?;
+    Ok(RoadGrid::square(g.nx, g.ny, g.dx))
 }
 
 fn tining(
@@ -156,12 +158,37 @@ fn tining(
     t: &TiningArgs,
     direction: roads::TiningDirection,
 ) -> Result<texture::HeightMap> {
-    let mut p = roads::Tining::transverse(road_grid(g), g.seed);
+    let mut p = roads::Tining::transverse(road_grid(g)?, g.seed);
     p.direction = direction;
     p.groove_width = t.groove_width;
     p.groove_depth = t.groove_depth;
     p.pitch = (t.pitch_min, t.pitch_max.unwrap_or(t.pitch_min));
     Ok(roads::tining(&p)?)
+}
+
+impl GridArgs {
+    /// Refuses a grid no machine could synthesise (more points than a
+    /// scenario's `[texture.synth]` takes: an FFT over 2^30 points needs
+    /// 16 GiB and more, and aborted in the allocator) or a spacing that is
+    /// no length, before anything is allocated.
+    pub fn check(&self) -> Result<()> {
+        let points = self.nx as f64 * self.ny as f64;
+        if self.nx < 2 || self.ny < 2 || points > MAX_MAP_POINTS {
+            anyhow::bail!(
+                "--nx {} --ny {}: expected at least 2 points each way and at most {MAX_MAP_POINTS:e} \
+                 points in all",
+                self.nx,
+                self.ny
+            );
+        }
+        if !(self.dx.is_finite() && self.dx > 0.0) {
+            anyhow::bail!(
+                "--dx {}: expected a spacing in metres, finite and > 0",
+                self.dx
+            );
+        }
+        Ok(())
+    }
 }
 
 impl RoadKind {
@@ -180,7 +207,7 @@ impl RoadKind {
                 striation_rms,
                 elongation,
             } => {
-                let mut p = roads::BrushedConcrete::new(road_grid(grid), grid.seed);
+                let mut p = roads::BrushedConcrete::new(road_grid(grid)?, grid.seed);
                 p.striation_rms = *striation_rms;
                 p.elongation = *elongation;
                 (roads::brushed_concrete(&p)?, grid)
@@ -191,7 +218,7 @@ impl RoadKind {
                 exposure_min,
                 exposure_max,
             } => {
-                let mut p = roads::ExposedAggregate::new(road_grid(grid), grid.seed);
+                let mut p = roads::ExposedAggregate::new(road_grid(grid)?, grid.seed);
                 p.coverage = *coverage;
                 p.exposure = (*exposure_min, *exposure_max);
                 (roads::exposed_aggregate(&p)?, grid)
@@ -202,7 +229,7 @@ impl RoadKind {
                 pore_depth,
                 plateau_fraction,
             } => {
-                let mut p = roads::PorousAsphalt::new(road_grid(grid), grid.seed);
+                let mut p = roads::PorousAsphalt::new(road_grid(grid)?, grid.seed);
                 p.coverage = *coverage;
                 p.pore_depth = *pore_depth;
                 p.plateau_fraction = *plateau_fraction;
@@ -212,7 +239,7 @@ impl RoadKind {
                 grid,
                 plateau_fraction,
             } => {
-                let mut p = roads::WornChipSeal::new(road_grid(grid), grid.seed);
+                let mut p = roads::WornChipSeal::new(road_grid(grid)?, grid.seed);
                 p.plateau_fraction = *plateau_fraction;
                 (roads::worn_chip_seal(&p)?, grid)
             }
@@ -225,7 +252,7 @@ impl RoadKind {
                 edge_radius,
                 no_stagger,
             } => {
-                let mut p = roads::Pave::new(road_grid(grid), grid.seed);
+                let mut p = roads::Pave::new(road_grid(grid)?, grid.seed);
                 p.block_length = *block_length;
                 p.block_width = *block_width;
                 p.joint_width = *joint_width;
@@ -235,5 +262,29 @@ impl RoadKind {
                 (roads::pave(&p)?, grid)
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (adversarial run, 2026-11-29): 32768 × 32768 points were
+    /// accepted and aborted in the allocator (16 GiB for the FFT).
+    #[test]
+    fn a_grid_no_machine_could_synthesise_is_refused_before_allocating() {
+        let grid = |nx, ny, dx| GridArgs {
+            nx,
+            ny,
+            dx,
+            seed: 1,
+            data_type: "D".into(),
+            out: PathBuf::from("unused.x3p"),
+        };
+        assert!(grid(800, 400, 0.25e-3).check().is_ok());
+        for (nx, ny, dx) in [(32768, 32768, 1e-4), (1, 400, 1e-4), (800, 400, 0.0)] {
+            let e = grid(nx, ny, dx).check().expect_err("refused").to_string();
+            assert!(e.contains("--nx") || e.contains("--dx"), "{e}");
+        }
     }
 }

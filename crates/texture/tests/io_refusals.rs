@@ -167,3 +167,28 @@ fn sur_whose_header_disagrees_with_its_data_is_refused() {
     two.extend_from_slice(&good);
     assert!(sur_from_bytes(&two).is_ok());
 }
+
+/// A z increment of 0 read every height as the offset (a flat map, "no
+/// asperity" further on) without a word; a negative one reads the map
+/// upside down. Both are refused, naming the increment.
+#[test]
+fn x3p_with_a_zero_or_negative_z_increment_is_refused() {
+    let bytes = x3p_to_bytes(&map(), X3pDataType::I16).unwrap();
+    let with_increment = |value: &'static str| {
+        move |xml: String| {
+            let cz = xml.find("<CZ>").unwrap();
+            let start = xml[cz..].find("<Increment>").unwrap() + cz + "<Increment>".len();
+            let end = xml[start..].find("</Increment>").unwrap() + start;
+            format!("{}{value}{}", &xml[..start], &xml[end..])
+        }
+    };
+    assert!(x3p_from_bytes(&edit_x3p(&bytes, with_increment("1e-6"), |_| ())).is_ok());
+    for value in ["0", "-1e-6", "0e0"] {
+        let bad = edit_x3p(&bytes, with_increment(value), |_| ());
+        let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+        assert!(
+            e.contains("CZ Increment") && e.contains("> 0"),
+            "{value}: {e}"
+        );
+    }
+}

@@ -320,6 +320,17 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
         }
     }
     let (inc, off) = (cz.increment, cz.offset);
+    // A zero (or negative, or non-finite) increment would read every
+    // height as the offset, or upside down: refused, as the ASCII grid's
+    // `z_scale` is.
+    if !(inc.is_finite() && inc > 0.0 && off.is_finite()) {
+        return Err(TextureError::format(
+            FMT,
+            format!(
+                "CZ Increment {inc} and Offset {off}: the increment must be finite and > 0, the offset finite"
+            ),
+        ));
+    }
     let mut heights = Vec::with_capacity(n);
     for (k, c) in data.chunks_exact(ztype.size()).enumerate() {
         let raw = match ztype {
