@@ -68,3 +68,39 @@ fn a_load_that_cannot_converge_is_recorded_and_the_others_are_solved()
     assert!(e.to_string().contains("100 N"), "{e}");
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-29): a texture load whose contacts
+/// spread too far for a pressure map at the texture's spacing failed the
+/// whole run ("the pressure map would have 30316036 cells"), the light
+/// load beside it lost. It now gets a coarser map, with a note, and both
+/// loads are written; the light load's map keeps the texture's spacing.
+#[test]
+fn a_load_too_heavy_for_a_fine_pressure_map_gets_a_coarser_one_not_the_runs_failure()
+-> Result<(), Box<dyn std::error::Error>> {
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    let text = "name = \"tex\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [static]\nloads = [\"10 N\", \"1e7 N\"]\n\
+                [texture]\nfile = \"texture/spheres.x3p\"\nmin_prominence = \"0.2 mm\"\n\
+                min_area = \"2 mm2\"\n";
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let s = Scenario::parse(text, "tex")?;
+    let ScenarioResult::Texture(r) = s.run(&RunOptions::new(&fixtures))? else {
+        return Err("not a texture result".into());
+    };
+    assert_eq!(r.loads.len(), 2);
+    let spacing = r.map.dx().min(r.map.dy());
+    let (light, heavy) = (&r.loads[0], &r.loads[1]);
+    assert!(light.notes.is_empty(), "{:?}", light.notes);
+    let light_map = light.two_scale.map.as_ref().ok_or("no map at 10 N")?;
+    assert!((light_map.grid().dx() - spacing).abs() < 1e-12);
+    assert_eq!(heavy.notes.len(), 1, "{:?}", heavy.notes);
+    assert!(
+        heavy.notes[0].contains("more than the limit"),
+        "{:?}",
+        heavy.notes
+    );
+    let heavy_map = heavy.two_scale.map.as_ref().ok_or("no map at 1e7 N")?;
+    assert!(heavy_map.grid().dx() > spacing);
+    assert!((heavy_map.integral() - 1e7).abs() < 1e-6 * 1e7);
+    Ok(())
+}

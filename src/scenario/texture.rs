@@ -24,7 +24,7 @@ use crate::texture_road::{
     PastCap, TextureLaw, TextureRoad, TextureRoadError, pressed_past_caps, rolling_road,
     texture_road,
 };
-use crate::two_scale::{TwoScale, TwoScaleOptions, two_scale};
+use crate::two_scale::{TwoScale, TwoScaleError, TwoScaleOptions, two_scale};
 
 /// What the segmentation made of a height map.
 #[derive(Clone, Debug, PartialEq)]
@@ -215,6 +215,9 @@ pub struct TextureLoad {
     /// The asperities pressed past the depth their caps are tabulated to
     /// (whole basin in contact: the law's answer is an extrapolation).
     pub past_caps: Vec<PastCap>,
+    /// What a reader of this load's outputs should know (a pressure map
+    /// coarser than the texture's spacing).
+    pub notes: Vec<String>,
 }
 
 /// A static run on a texture.
@@ -372,17 +375,38 @@ pub(crate) fn run_texture_static(
             .iter()
             .map(|row| row.force)
             .collect();
-        let ts =
-            two_scale(&positions, &forces, &shapes, &material, &options).map_err(|source| {
-                ScenarioError::TwoScale {
-                    context: format!("two-scale pressure map at {} N", r.load),
-                    source,
-                }
-            })?;
+        let as_scenario_error = |source| ScenarioError::TwoScale {
+            context: format!("two-scale pressure map at {} N", r.load),
+            source,
+        };
+        let mut notes = Vec::new();
+        let ts = match two_scale(&positions, &forces, &shapes, &material, &options) {
+            // A load whose contacts spread too far for a map at the
+            // texture's spacing gets a coarser map, not the run's failure.
+            Err(TwoScaleError::MapTooLarge { cells, limit }) => {
+                let cell = options.map_cell.unwrap_or(map.dx())
+                    * (cells as f64 / limit as f64).sqrt()
+                    * 1.05;
+                notes.push(format!(
+                    "pressure map on {:.3} mm cells, not the texture's {:.3} mm: at its spacing \
+                     the map would have {cells} cells, more than the limit {limit}",
+                    cell * 1e3,
+                    map.dx().min(map.dy()) * 1e3
+                ));
+                let coarser = TwoScaleOptions {
+                    map_cell: Some(cell),
+                    ..options.clone()
+                };
+                two_scale(&positions, &forces, &shapes, &material, &coarser)
+                    .map_err(as_scenario_error)?
+            }
+            other => other.map_err(as_scenario_error)?,
+        };
         per_load.push(TextureLoad {
             load: r.load,
             two_scale: ts,
             past_caps: pressed_past_caps(&cap_depths, depths),
+            notes,
         });
     }
     Ok(TextureResult {

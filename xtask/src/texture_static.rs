@@ -121,6 +121,9 @@ pub fn report_texture_static(name: &str, r: &TextureResult, set: &mut OutputSet)
             fallbacks += 1;
             say!("  fallback: indenter {}: {status}", ids[k]);
         }
+        for note in &per_load.notes {
+            say!("  note: {note}");
+        }
         for past in &per_load.past_caps {
             say!("  warning: indenter {}: {past}", ids[past.index]);
         }
