@@ -115,3 +115,33 @@ fn a_tyre_sinking_a_spike_into_the_flat_is_warned_of_it() -> TestResult {
     );
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-29): three 5 mm balls at 1000 N
+/// were pressed 6 mm deep, past their equators, and the run said every
+/// item converged at full fidelity. Each ball pressed past its radius is
+/// now named per load; at 10 N none is.
+#[test]
+fn a_ball_pressed_past_its_equator_is_named() -> TestResult {
+    let text = "name = \"s\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [default_shape]\nkind = \"sphere\"\nradius = \"5 mm\"\n\
+                [static]\nloads = [\"10 N\", \"1000 N\"]\n\
+                [[asperity]]\nid = 1\nx = \"0 mm\"\ny = \"0 mm\"\n\
+                [[asperity]]\nid = 2\nx = \"12 mm\"\ny = \"0 mm\"\n\
+                [[asperity]]\nid = 3\nx = \"6 mm\"\ny = \"10 mm\"\n";
+    let s = Scenario::parse(text, "s")?;
+    let ScenarioResult::Static(r) = s.run(&RunOptions::new("."))? else {
+        return Err("not a static result".into());
+    };
+    assert_eq!(r.runs.len(), 2);
+    assert!(r.runs[1].approach > 5e-3, "{}", r.runs[1].approach);
+    assert_eq!(r.warnings.len(), 3, "{:?}", r.warnings);
+    for (w, id) in r.warnings.iter().zip(1..) {
+        assert!(
+            w.starts_with(&format!(
+                "load 1000 N, asperity {id}: a ball of radius 5.000 mm pressed "
+            )) && w.contains("past its equator"),
+            "{w}"
+        );
+    }
+    Ok(())
+}

@@ -7,7 +7,7 @@ use tyreroad_multipoint::{
     Control, Problem, Solution, SolveError, SolverOptions, overlapping_contacts, solve,
 };
 
-use super::{Scenario, ScenarioError};
+use super::{Scenario, ScenarioError, ShapeSpec};
 
 /// One asperity at one load.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -66,6 +66,9 @@ pub struct StaticResult {
     /// The loads whose solve did not converge (N) and why: each load is its
     /// own item, so the others are solved and written all the same.
     pub failed_loads: Vec<(f64, String)>,
+    /// What looks wrong with a solved load's answer: an asperity pressed
+    /// past the depth its shape describes (a ball past its equator).
+    pub warnings: Vec<String>,
 }
 
 impl StaticResult {
@@ -105,14 +108,44 @@ pub(crate) fn static_loads(scenario: &Scenario) -> Result<Vec<f64>, ScenarioErro
 pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
     let loads = static_loads(scenario)?;
     let problem = scenario.problem()?;
+    let ids = scenario.ids();
     let solved = run_static_problem(
         &scenario.name,
         &problem,
-        &scenario.ids(),
+        &ids,
         &loads,
         &scenario.solver_options(),
     )?;
-    Ok(solved.result)
+    let mut result = solved.result;
+    // A ball pressed past its equator (or given a contact wider than
+    // itself by its law's local rule): its cap goes on as a cylinder, and
+    // Hertz's small-contact picture ended long before.
+    let radii: Vec<Option<f64>> = (0..ids.len())
+        .map(|k| match scenario.shape_of(k) {
+            Ok(ShapeSpec::Sphere { radius, .. }) => Some(radius.value()),
+            _ => None,
+        })
+        .collect();
+    for (run, depths) in result.runs.iter().zip(&solved.depths) {
+        let rows = result.rows.iter().filter(|row| row.load == run.load);
+        for (((row, &id), radius), &depth) in rows.zip(&ids).zip(&radii).zip(depths) {
+            if let Some(r) = *radius
+                && (depth > r || row.radius > r)
+            {
+                result.warnings.push(format!(
+                    "load {} N, asperity {id}: a ball of radius {:.3} mm pressed {:.3} mm deep, \
+                     its contact radius {:.3} mm: a contact wider than the ball, or past its \
+                     equator (where its law goes on as a cylinder), is no ball's; Hertz's \
+                     small-contact picture ended well before",
+                    run.load,
+                    r * 1e3,
+                    depth * 1e3,
+                    row.radius * 1e3
+                ));
+            }
+        }
+    }
+    Ok(result)
 }
 
 /// A static run with each load's local contacts (for pressure maps).
@@ -226,6 +259,7 @@ pub fn run_static_problem_with<L: ContactLaw + Sync>(
             rows,
             runs,
             failed_loads,
+            warnings: Vec::new(),
         },
         local_contacts: locals,
         depths,

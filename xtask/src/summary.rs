@@ -32,6 +32,7 @@ impl Fallbacks {
             self.items
                 .push(format!("load {load} N: not solved, not written ({why})"));
         }
+        self.items.extend(r.warnings.iter().cloned());
         for run in &r.runs {
             if let Convergence::Stagnated { residual } = run.convergence {
                 self.items.push(format!(
