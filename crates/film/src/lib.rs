@@ -115,9 +115,12 @@ mod scan;
 mod synthetic;
 
 /// The data lines of a small CSV text, with their 0-based line index: trimmed,
-/// blank lines and `#` comments skipped (every CSV this crate reads).
+/// blank lines and `#` comments skipped (every CSV this crate reads). A
+/// UTF-8 byte-order mark (spreadsheet exports write one) is not data.
 pub(crate) fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    text.lines()
+    text.strip_prefix('\u{feff}')
+        .unwrap_or(text)
+        .lines()
         .map(str::trim)
         .enumerate()
         .filter(|(_, line)| !line.is_empty() && !line.starts_with('#'))

@@ -166,6 +166,13 @@ fn model_csv_reading() -> Result<()> {
     let text = "# static run\nload_n,indenter,x_m,y_m,force_n,radius_m\n289,1,0.02,-0.02,11.5,1.7e-3\n289,2,0.01,-0.02,11.6,1.71e-3\n355,1,0.02,-0.02,14.2,1.8e-3\n";
     let rows = parse_model_csv(text, std::path::Path::new("m.csv"))?;
     assert_eq!(rows.len(), 3);
+    // A spreadsheet's byte-order mark is not part of the first line
+    // (regression: it made the header "\u{feff}load_n,…" unknown).
+    let with_bom = format!("\u{feff}{}", text.trim_start_matches("# static run\n"));
+    assert_eq!(
+        parse_model_csv(&with_bom, std::path::Path::new("m.csv"))?,
+        rows
+    );
     assert_eq!(loads(&rows), vec![289.0, 355.0]);
     assert_eq!(rows_at_load(&rows, 289.0).len(), 2);
     let bad = "load,indenter,x_m,y_m,force_n,radius_m\n";

@@ -192,3 +192,23 @@ fn x3p_with_a_zero_or_negative_z_increment_is_refused() {
         );
     }
 }
+
+/// Regression (adversarial run, 2026-11-29): a text map saved with a UTF-8
+/// byte-order mark was refused as 'unknown header key "\u{feff}#"'. The
+/// mark is not data: the map reads as without it.
+#[test]
+fn text_maps_with_a_byte_order_mark_read_as_without_it() {
+    use tyreroad_texture::io::text::{
+        ascii_grid_from_str, ascii_grid_to_string, xyz_from_str, xyz_to_string,
+    };
+    let m = map();
+    let grid = ascii_grid_to_string(&m);
+    let plain = ascii_grid_from_str(&grid).unwrap();
+    assert_eq!(
+        ascii_grid_from_str(&format!("\u{feff}{grid}")).unwrap(),
+        plain
+    );
+    let xyz = xyz_to_string(&m);
+    let plain = xyz_from_str(&xyz).unwrap();
+    assert_eq!(xyz_from_str(&format!("\u{feff}{xyz}")).unwrap(), plain);
+}

@@ -55,7 +55,7 @@ pub fn sidecar_spacing(path: impl AsRef<Path>) -> Result<(f64, f64), TextureErro
     sidecar.push(".spacing");
     let sidecar = Path::new(&sidecar);
     let text = std::fs::read_to_string(sidecar).map_err(|e| TextureError::io(sidecar, e))?;
-    let values: Vec<f64> = text
+    let values: Vec<f64> = super::text::without_bom(&text)
         .split_whitespace()
         .map(str::parse)
         .collect::<Result<_, _>>()

@@ -35,7 +35,7 @@ pub fn read_ascii_grid(path: impl AsRef<Path>) -> Result<HeightMap, TextureError
 /// Rows may be wrapped over several lines: the values are read in order,
 /// exactly `nx·ny` of them.
 pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
-    let mut lines = s.lines();
+    let mut lines = without_bom(s).lines();
     let (mut nx, mut ny, mut dx, mut dy) = (None, None, None, None);
     let (mut zs, mut xys) = (1.0, 1.0);
     let num = |k: &str, v: Option<&str>| -> Result<f64, TextureError> {
@@ -195,6 +195,7 @@ pub fn read_xyz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// whose z is `NaN`, are missing. A duplicated grid point is an error, and
 /// so is a grid more than 64 times larger than the point count.
 pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
+    let s = without_bom(s);
     let mut pts: Vec<[f64; 3]> = Vec::new();
     for (ln, line) in s.lines().enumerate() {
         let line = line.trim();
@@ -318,4 +319,10 @@ pub fn xyz_to_string(map: &HeightMap) -> String {
 /// Write an xyz file (whole or not at all).
 pub fn write_xyz(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), TextureError> {
     write_atomic(path.as_ref(), xyz_to_string(map).as_bytes())
+}
+
+/// `s` without a leading UTF-8 byte-order mark (editors and spreadsheet
+/// exports on Windows write one; it is not part of the first key).
+pub(crate) fn without_bom(s: &str) -> &str {
+    s.strip_prefix('\u{feff}').unwrap_or(s)
 }
