@@ -311,3 +311,39 @@ fn a_rolling_receding_treatment_other_than_lee_radok_or_ting_is_that_run_s_error
             .any(|(t, l)| (t - l).abs() > 1e-9 * l.abs())
     );
 }
+
+/// Regressions (second adversarial run, 2026-11-29): a tread at 1e30 K was
+/// accepted; above the WLF pole a temperature where a large C1 makes a_T
+/// overflow was refused as "below the pole"; `long_term` with no branch
+/// rolled as an elastic tread without a word.
+#[test]
+fn a_temperature_past_any_tread_an_overflowing_shift_and_a_branchless_series_are_named() {
+    let hot = refused(&rolling_with(&format!(
+        "{}\n{WLF}",
+        series_with("temperature = \"1e30 K\"\n")
+    )));
+    assert!(
+        hot.contains("[material.viscoelastic] temperature") && hot.contains("at most 1000 K"),
+        "{hot}"
+    );
+    // −20 °C is above the pole (−81.6 °C); with C1 = 1000, a_T overflows.
+    let overflow = refused(&rolling_with(&format!(
+        "{}\n{}",
+        series_with("temperature = \"-20 °C\"\n"),
+        WLF.replace("c1 = 8.86", "c1 = 1000")
+    )));
+    assert!(
+        overflow.contains("shift factor") && !overflow.contains("pole"),
+        "{overflow}"
+    );
+    let branchless = "[material.viscoelastic]\nlong_term = \"2 MPa\"\n";
+    let scenario = Scenario::parse(&rolling_with(branchless), ORIGIN).expect("parses");
+    let e = scenario
+        .viscoelastic_material(std::path::Path::new("."))
+        .expect_err("an elastic tread as a viscoelastic one")
+        .to_string();
+    assert!(
+        e.contains("without any [[material.viscoelastic.branch]]"),
+        "{e}"
+    );
+}

@@ -51,7 +51,8 @@ pub use history::{
     write_history_csv,
 };
 pub use ranges::{
-    MAX_MAP_POINTS, THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads,
+    MAX_MAP_POINTS, MODULUS_RANGE, THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name,
+    check_threads,
 };
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;
@@ -71,8 +72,8 @@ pub use texture::{CalibrationSummary, TextureLoad, TextureResult, TextureSummary
 pub use tyreroad_multipoint::Par;
 pub use tyreroad_rolling::{Progress, ProgressFn};
 pub use visco::{
-    ACTIVATION_ENERGY_RANGE, BranchSpec, RELAXATION_TIME_RANGE, RelaxationTime, RelaxationTimeDim,
-    ShiftSpec, Temperature, ViscoCase, ViscoSpec, WLF_C1_RANGE, WLF_C2_RANGE,
+    ACTIVATION_ENERGY_RANGE, BranchSpec, MAX_TEMPERATURE, RELAXATION_TIME_RANGE, RelaxationTime,
+    RelaxationTimeDim, ShiftSpec, Temperature, ViscoCase, ViscoSpec, WLF_C1_RANGE, WLF_C2_RANGE,
 };
 
 /// How to run a scenario (nothing here changes the results).

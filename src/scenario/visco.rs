@@ -50,6 +50,9 @@ pub type RelaxationTime = Quantity<RelaxationTimeDim>;
 /// any test); outside it a value is a unit slip, not rubber.
 pub const RELAXATION_TIME_RANGE: [f64; 2] = [1e-12, 1e12];
 
+/// Highest tread temperature a scenario or sweep takes (K).
+pub const MAX_TEMPERATURE: f64 = 1000.0;
+
 /// Range of the WLF constant `C1` (typical rubbers: 8 to 20).
 pub const WLF_C1_RANGE: [f64; 2] = [0.0, 1e3];
 /// Range (K) of the WLF constant `C2` (typical rubbers: 50 to 150 K).
@@ -289,6 +292,16 @@ impl ViscoSpec {
         if let Some(t) = self.temperature {
             let key = format!("{SECTION} temperature");
             let kelvin = format!("{} K", significant(t.0));
+            if !(t.0 > 0.0 && t.0 <= MAX_TEMPERATURE) {
+                return Err(ScenarioError::Value {
+                    key,
+                    value: kelvin,
+                    expected: format!(
+                        "a temperature above absolute zero and at most {MAX_TEMPERATURE} K (no \
+                         rubber tread outlives a few hundred degrees Celsius)"
+                    ),
+                });
+            }
             let Some(shift) = self.shift() else {
                 return Err(ScenarioError::Value {
                     key,
@@ -298,11 +311,18 @@ impl ViscoSpec {
             };
             if shift.factor(t.0).is_err() {
                 let expected = match shift {
-                    TemperatureShift::Wlf { c2, reference, .. } => format!(
-                        "a temperature above the WLF pole T_ref − C2 = {} K ({} °C)",
-                        significant(reference - c2),
-                        significant(reference - c2 - 273.15)
-                    ),
+                    TemperatureShift::Wlf { c2, reference, .. } if t.0 <= reference - c2 => {
+                        format!(
+                            "a temperature above the WLF pole T_ref − C2 = {} K ({} °C)",
+                            significant(reference - c2),
+                            significant(reference - c2 - 273.15)
+                        )
+                    }
+                    TemperatureShift::Wlf { .. } => {
+                        "a temperature where the WLF shift factor a_T is a finite number > 0 \
+                         (there C1 makes it over- or underflow: closer to T_ref, or a smaller C1)"
+                            .into()
+                    }
                     _ => "a temperature where the Arrhenius shift factor is finite and > 0".into(),
                 };
                 return Err(ScenarioError::Value {
@@ -331,6 +351,12 @@ impl ViscoSpec {
                 fit_prony(&curve, self.per_decade.unwrap_or(3), poisson_ratio)
                     .map_err(visco_error("master_curve"))
             }
+            (None, Some(_)) if self.branches.is_empty() => Err(ScenarioError::Invalid(
+                "[material.viscoelastic]: long_term without any [[material.viscoelastic.branch]] \
+                 is an elastic tread: give its branches, or drop the section and keep \
+                 [material] youngs_modulus"
+                    .into(),
+            )),
             (None, Some(long_term)) => {
                 let branches = self
                     .branches
@@ -457,12 +483,14 @@ impl ViscoCase {
             });
         }
         if let Some(t) = self.temperature
-            && !(t.is_finite() && t > 0.0)
+            && !(t > 0.0 && t <= MAX_TEMPERATURE)
         {
             return Err(ScenarioError::Value {
                 key: "sweep temperature".into(),
                 value: format!("{} K", significant(t)),
-                expected: "a temperature above absolute zero".into(),
+                expected: format!(
+                    "a temperature above absolute zero and at most {MAX_TEMPERATURE} K"
+                ),
             });
         }
         Ok(())

@@ -19,7 +19,7 @@ use tyreroad::bem_rolling::{
     roll_visco_bem_scenario, run_visco_scenario_comparison, texture_field, third_octave_policy,
 };
 use tyreroad::scenario::output::{OutputSet, fmt};
-use tyreroad::scenario::{Par, Scenario};
+use tyreroad::scenario::{MODULUS_RANGE, Par, RELAXATION_TIME_RANGE, Scenario};
 use tyreroad::shared::Material;
 use tyreroad::viscoelastic::{Branch, Prony};
 
@@ -195,18 +195,34 @@ pub fn parse_prony(text: &str, poisson_ratio: f64) -> Result<Prony> {
         s.parse::<f64>()
             .with_context(|| format!("--viscoelastic: {what} {s:?} is not a number (SI: Pa, s)"))
     };
-    let long_term = number(fields.next().unwrap_or(""), "E_inf")?;
+    // The ranges a scenario's [material.viscoelastic] is held to.
+    let within = |s: &str, what: &str, [lo, hi]: [f64; 2], unit: &str| -> Result<f64> {
+        let v = number(s, what)?;
+        if !(v >= lo && v <= hi) {
+            bail!("--viscoelastic: {what} {s}: expected {lo:e} to {hi:e} {unit}");
+        }
+        Ok(v)
+    };
+    let long_term = within(fields.next().unwrap_or(""), "E_inf", MODULUS_RANGE, "Pa")?;
     let branches = fields
         .map(|branch| {
             let Some((modulus, time)) = branch.split_once('@') else {
                 bail!("--viscoelastic: branch {branch:?} must be MODULUS@RELAXATION_TIME (Pa@s)");
             };
             Ok(Branch {
-                modulus: number(modulus.trim(), "branch modulus")?,
-                relaxation_time: number(time.trim(), "relaxation time")?,
+                modulus: within(modulus.trim(), "branch modulus", MODULUS_RANGE, "Pa")?,
+                relaxation_time: within(
+                    time.trim(),
+                    "relaxation time",
+                    RELAXATION_TIME_RANGE,
+                    "s",
+                )?,
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    if branches.is_empty() {
+        bail!("--viscoelastic {text:?}: no branch E@TAU: that is an elastic tread");
+    }
     Ok(Prony::new(long_term, branches, poisson_ratio)?)
 }
 
@@ -408,5 +424,18 @@ mod tests {
         );
         let error = parse_prony("2 MPa", 0.5).expect_err("units");
         assert!(error.to_string().contains("E_inf"), "{error}");
+        // Held to the scenario file's ranges (regression: `history
+        // --viscoelastic 1e30` ran with an approach of 0 at every step).
+        for (text, what) in [
+            ("1e30,3e6@1e-3", "E_inf"),
+            ("2e6,1e20@1e-3", "branch modulus"),
+            ("2e6,3e6@1e300", "relaxation time"),
+            ("2e6,3e6@1e-300", "relaxation time"),
+        ] {
+            let error = parse_prony(text, 0.5).expect_err(text).to_string();
+            assert!(error.contains(what) && error.contains("expected"), "{error}");
+        }
+        let error = parse_prony("2e6", 0.5).expect_err("no branch").to_string();
+        assert!(error.contains("elastic tread"), "{error}");
     }
 }
