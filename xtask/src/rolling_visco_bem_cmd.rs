@@ -433,7 +433,10 @@ mod tests {
             ("2e6,3e6@1e-300", "relaxation time"),
         ] {
             let error = parse_prony(text, 0.5).expect_err(text).to_string();
-            assert!(error.contains(what) && error.contains("expected"), "{error}");
+            assert!(
+                error.contains(what) && error.contains("expected"),
+                "{error}"
+            );
         }
         let error = parse_prony("2e6", 0.5).expect_err("no branch").to_string();
         assert!(error.contains("elastic tread"), "{error}");

@@ -210,6 +210,12 @@ impl Response {
     }
 }
 
+/// Highest calibration pressure a film can have recorded (Pa).
+pub const MAX_FILM_PRESSURE: f64 = 1e9;
+
+/// Highest optical density of a calibration (a film's darkest print is near 3).
+pub const MAX_DENSITY: f64 = 6.0;
+
 /// A calibration curve: film response (density or grey) against pressure,
 /// fitted by a monotone cubic ([`MonotoneCubic`]) in pressure, with its exact
 /// inverse. Its range of validity is the range of the calibration pressures.
@@ -237,6 +243,31 @@ impl Calibration {
             return Err(FilmError::InvalidCalibration(format!(
                 "negative pressure {p} Pa (at {} {r}): contact pressures are ≥ 0",
                 response.name()
+            )));
+        }
+        // No film records a gigapascal (the densest grades stop near
+        // 300 MPa); a grey lies in [0, 1] and an optical density in
+        // [0, MAX_DENSITY]. Beyond, a unit or a column is wrong.
+        if let Some(&(p, r)) = v.iter().find(|(p, _)| *p > MAX_FILM_PRESSURE) {
+            return Err(FilmError::InvalidCalibration(format!(
+                "pressure {p:e} Pa (at {} {r}): no pressure film records more than \
+                 {MAX_FILM_PRESSURE:e} Pa (pressure_pa or pressure_mpa?)",
+                response.name()
+            )));
+        }
+        let response_range = match response {
+            Response::Grey => (0.0, 1.0),
+            Response::Density => (0.0, MAX_DENSITY),
+        };
+        if let Some(&(p, r)) = v
+            .iter()
+            .find(|(_, r)| !(response_range.0..=response_range.1).contains(r))
+        {
+            return Err(FilmError::InvalidCalibration(format!(
+                "{} {r} (at {p:e} Pa): expected {} to {} (grey8 is 0–255, grey16 0–65535)",
+                response.name(),
+                response_range.0,
+                response_range.1
             )));
         }
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -665,5 +696,24 @@ mod tests {
             "{err:?}"
         );
         assert!(Calibration::from_pairs(Response::Density, &pairs[..2]).is_ok());
+    }
+
+    /// Regression (adversarial run, 2026-11-29): a point at 1e30 Pa gave
+    /// 6.3e23 N per print, and greys outside [0, 1] were accepted.
+    #[test]
+    fn calibration_values_no_film_records_are_refused_naming_them() {
+        let refused = |response, pairs: &[(f64, f64)]| {
+            Calibration::from_pairs(response, pairs)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default()
+        };
+        let e = refused(Response::Density, &[(0.2, 1e5), (0.9, 1e30)]);
+        assert!(e.contains("1e30 Pa") && e.contains("pressure_mpa"), "{e}");
+        let e = refused(Response::Grey, &[(0.9, 1e5), (1.5, 1e6)]);
+        assert!(e.contains("grey 1.5") && e.contains("0 to 1"), "{e}");
+        let e = refused(Response::Density, &[(-0.2, 1e5), (0.9, 1e6)]);
+        assert!(e.contains("density -0.2"), "{e}");
+        assert!(Calibration::from_pairs(Response::Grey, &[(0.9, 1e5), (0.3, 1e6)]).is_ok());
     }
 }
