@@ -159,6 +159,9 @@ pub fn run(args: &FilmArgs) -> Result<()> {
             let [col, row] = v[..] else {
                 bail!("--origin {s:?}: expected COL,ROW");
             };
+            if !(col.is_finite() && row.is_finite()) {
+                bail!("--origin {s:?}: expected finite pixel coordinates COL,ROW");
+            }
             film::Origin::Pixel { col, row }
         }
     };
@@ -168,6 +171,18 @@ pub fn run(args: &FilmArgs) -> Result<()> {
     }
     let det = film::analyse(&scan, &response, &options)
         .with_context(|| format!("analysing {}", args.scan.display()))?;
+    if let film::Origin::Pixel { col, row } = origin
+        && !((0.0..=det.width as f64).contains(&col) && (0.0..=det.height as f64).contains(&row))
+    {
+        bail!(
+            "--origin {col},{row}: outside the {} × {} pixel scan",
+            det.width,
+            det.height
+        );
+    }
+    if args.load.is_some() && args.model.is_none() {
+        bail!("--load chooses a load of the --model file: give --model too");
+    }
     let matching = film::match_layout(&det, &layout, origin, None).with_context(|| {
         format!(
             "matching prints of {} to {}",
@@ -197,6 +212,7 @@ pub fn run(args: &FilmArgs) -> Result<()> {
                     path.display()
                 );
             }
+            check_model_layout(&model, &layout, path)?;
             Some(film::compare(load, &measured, &model)?)
         }
     };
@@ -350,9 +366,68 @@ pub fn synthetic_table(
     Ok(s)
 }
 
+/// The model rows of a load against the film's layout: every model
+/// indenter must be in the layout, at its position to within
+/// [`MODEL_POSITION_TOLERANCE`] (the model of another layout, or of another
+/// frame, would be compared print by print with the wrong indenters).
+fn check_model_layout(model: &[film::ModelRow], layout: &film::Layout, path: &Path) -> Result<()> {
+    for row in model {
+        let Some(at) = layout.indenters().iter().find(|i| i.number == row.indenter) else {
+            bail!(
+                "{}: indenter {} of the model is not in the layout",
+                path.display(),
+                row.indenter
+            );
+        };
+        let off = (row.x_m - at.x).hypot(row.y_m - at.y);
+        if off > MODEL_POSITION_TOLERANCE {
+            bail!(
+                "{}: indenter {} of the model at ({}, {}) m lies {off:.3e} m from the layout's \
+                 ({}, {}) m: the model of another layout or frame?",
+                path.display(),
+                row.indenter,
+                row.x_m,
+                row.y_m,
+                at.x,
+                at.y
+            );
+        }
+    }
+    Ok(())
+}
+
+/// How far a model indenter may lie from its layout position (m).
+const MODEL_POSITION_TOLERANCE: f64 = 1e-3;
+
 #[cfg(test)]
 mod print_csv_tests {
     use super::*;
+
+    /// Regression (adversarial run, 2026-11-29): a model 0.5 m off the
+    /// layout, or of an indenter the layout lacks, was compared all the same.
+    #[test]
+    fn a_model_off_the_layout_is_refused() {
+        let layout = film::Layout::new(vec![film::Indenter {
+            number: 1,
+            x: 0.01,
+            y: 0.0,
+        }])
+        .expect("layout");
+        let row = |indenter, x_m| film::ModelRow {
+            load_n: 10.0,
+            indenter,
+            x_m,
+            y_m: 0.0,
+            force_n: 10.0,
+            radius_m: 1e-3,
+        };
+        let path = Path::new("m.csv");
+        assert!(check_model_layout(&[row(1, 0.0101)], &layout, path).is_ok());
+        let far = check_model_layout(&[row(1, 0.5)], &layout, path).expect_err("far");
+        assert!(far.to_string().contains("from the layout's"), "{far}");
+        let absent = check_model_layout(&[row(2, 0.01)], &layout, path).expect_err("absent");
+        assert!(absent.to_string().contains("not in the layout"), "{absent}");
+    }
 
     fn row(model: bool) -> PrintRow {
         PrintRow {

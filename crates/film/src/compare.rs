@@ -64,8 +64,20 @@ pub fn parse_model_csv(text: &str, source: &Path) -> Result<Vec<ModelRow>> {
         let indenter: u32 = cols[1]
             .parse()
             .map_err(|_| csv_err(n + 1, format!("bad indenter number {:?}", cols[1])))?;
+        let load_n = num(cols[0])?;
+        // One row per load and indenter: a repeated one would be counted
+        // twice in the statistics.
+        if rows
+            .iter()
+            .any(|r: &ModelRow| r.load_n == load_n && r.indenter == indenter)
+        {
+            return Err(csv_err(
+                n + 1,
+                format!("indenter {indenter} at {load_n} N given twice"),
+            ));
+        }
         rows.push(ModelRow {
-            load_n: num(cols[0])?,
+            load_n,
             indenter,
             x_m: num(cols[2])?,
             y_m: num(cols[3])?,

@@ -173,6 +173,14 @@ fn model_csv_reading() -> Result<()> {
         parse_model_csv(&with_bom, std::path::Path::new("m.csv"))?,
         rows
     );
+    // One row per load and indenter (regression: a repeated indenter was
+    // counted twice in the statistics).
+    let twice = format!("{text}289,2,0.01,-0.02,11.6,1.71e-3\n");
+    let e = parse_model_csv(&twice, std::path::Path::new("m.csv"))
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(e.contains("line 6: indenter 2 at 289 N given twice"), "{e}");
     assert_eq!(loads(&rows), vec![289.0, 355.0]);
     assert_eq!(rows_at_load(&rows, 289.0).len(), 2);
     let bad = "load,indenter,x_m,y_m,force_n,radius_m\n";
