@@ -104,3 +104,38 @@ fn a_load_too_heavy_for_a_fine_pressure_map_gets_a_coarser_one_not_the_runs_fail
     assert!((heavy_map.integral() - 1e7).abs() < 1e-6 * 1e7);
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-29): heights of 1e100 m failed the
+/// run with a bare "Newton-Raphson did not converge … residual 1.000e0",
+/// the plausibility warning (printed with the report) never reached. A run
+/// that fails outright now carries what looked wrong with the heights.
+#[test]
+fn a_run_that_fails_outright_says_what_looked_wrong_with_the_heights()
+-> Result<(), Box<dyn std::error::Error>> {
+    use tyreroad::scenario::{RunOptions, Scenario};
+    use tyreroad::texture::HeightMap;
+    use tyreroad::texture::io::text::write_ascii_grid;
+    let dir = tempfile::tempdir()?;
+    let n = 40;
+    let heights: Vec<f64> = (0..n * n)
+        .map(|k| 1e100 * ((k % n) as f64 * 0.7).sin() * ((k / n) as f64 * 0.5).cos())
+        .collect();
+    write_ascii_grid(
+        &HeightMap::new(n, n, 2.5e-4, 2.5e-4, heights)?,
+        dir.path().join("huge.asc"),
+    )?;
+    let text = "name = \"tex\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [model]\nfidelity = \"wilke\"\n[static]\nloads = [\"10 N\"]\n\
+                [texture]\nfile = \"huge.asc\"\nmin_prominence = \"0.1 mm\"\nmin_area = \"0.1 mm2\"\n";
+    let s = Scenario::parse(text, "tex")?;
+    let e = s
+        .run(&RunOptions::new(dir.path()))
+        .err()
+        .map(|e| e.to_string())
+        .ok_or("heights of 1e100 m solved")?;
+    assert!(
+        e.contains("(the heights: Sq ") && e.contains("e102 mm is no road"),
+        "{e}"
+    );
+    Ok(())
+}

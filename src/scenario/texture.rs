@@ -196,10 +196,15 @@ pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
 /// A warning when `sq` (m) is no road texture's roughness.
 pub(crate) fn roughness_warning(sq: f64) -> Option<String> {
     (sq > LARGEST_ROAD_SQ).then(|| {
+        let mm = sq * 1e3;
+        let mm = if mm < 1e6 {
+            format!("{mm:.3}")
+        } else {
+            format!("{mm:.3e}")
+        };
         format!(
-            "Sq {:.3} mm is no road texture's (a few millimetres at most): are the heights \
-             in metres?",
-            sq * 1e3
+            "Sq {mm} mm is no road texture's (a few millimetres at most): are the heights \
+             in metres?"
         )
     })
 }
@@ -271,11 +276,13 @@ pub(crate) fn run_texture_static(
         move |source| ScenarioError::Solve { context, source }
     };
     let rung = scenario.fidelity()?.rung(&scenario.solver_options())?;
+    let heights_said = summary.warnings.clone();
     let solved = match rung.laws {
         LawSource::Potential => {
             let problem = Problem::from_set(road.set, material)
                 .map_err(as_problem("[texture] asperities"))?;
-            run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)?
+            run_static_problem(&scenario.name, &problem, &ids, &loads, &rung.solver)
+                .map_err(|e| with_height_warnings(e, &heights_said))?
         }
         LawSource::Calibrated => {
             // The tables must cover the approaches in use: the Wilke
@@ -325,7 +332,8 @@ pub(crate) fn run_texture_static(
                                 scenario.name
                             ))),
                         }
-                    })?
+                    })
+                    .map_err(|e| with_height_warnings(e, &heights_said))?
                 }
                 // Each load its own fixed point of the field coupling
                 // (crate::fidelity::coupling), warm-started from the
@@ -355,7 +363,8 @@ pub(crate) fn run_texture_static(
                                 scenario.name
                             ))),
                         }
-                    })?
+                    })
+                    .map_err(|e| with_height_warnings(e, &heights_said))?
                 }
             }
         }
@@ -415,6 +424,17 @@ pub(crate) fn run_texture_static(
         statics,
         loads: per_load,
     })
+}
+
+/// A run's error with what looked wrong with the heights, when something
+/// did: a run that fails outright (no load solved) never reaches the report
+/// where those warnings are printed, and they are often its cause (heights
+/// of 1e100 m fail the solver with a bare residual).
+fn with_height_warnings(error: ScenarioError, warnings: &[String]) -> ScenarioError {
+    if warnings.is_empty() {
+        return error;
+    }
+    ScenarioError::Invalid(format!("{error} (the heights: {})", warnings.join("; ")))
 }
 
 /// The texture's asperities, with "no asperity" said in the scenario's
