@@ -118,6 +118,14 @@ fn loads_speeds_and_forces_out_of_any_physical_range_are_refused() {
         "\"1e30 N\"",
         &["[static] loads[3]", "N"],
     );
+    // Not a contact either, and once printed with 300 digits.
+    let tiny = refusal(
+        PAPER,
+        "\"500 N\"",
+        "\"1e-300 N\"",
+        &["[static] loads[3]", "[1e-9, 1e7] N"],
+    );
+    assert!(tiny.len() < 200, "{tiny}");
     refusal(
         SMALL_ROLLING,
         "speed = \"50 km/h\"",

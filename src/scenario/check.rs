@@ -81,8 +81,8 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
             in_range(
                 &format!("[static] loads[{k}]"),
                 w.value(),
-                LOAD_RANGE,
-                true,
+                [MIN_STATIC_LOAD, LOAD_RANGE[1]],
+                false,
                 "N",
             )?;
         }

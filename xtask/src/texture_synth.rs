@@ -187,6 +187,18 @@ impl GridArgs {
                 self.dx
             );
         }
+        // The file is an X3P whatever its name: another extension would be
+        // read back by that format's reader (an `.asc` as "not UTF-8 text").
+        let x3p = self
+            .out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("x3p"));
+        if !x3p {
+            anyhow::bail!(
+                "--out {}: synth writes an X3P file; name it .x3p",
+                self.out.display()
+            );
+        }
         Ok(())
     }
 }
@@ -282,6 +294,10 @@ mod tests {
             out: PathBuf::from("unused.x3p"),
         };
         assert!(grid(800, 400, 0.25e-3).check().is_ok());
+        let mut asc = grid(800, 400, 0.25e-3);
+        asc.out = PathBuf::from("road.asc");
+        let e = asc.check().expect_err("an X3P named .asc").to_string();
+        assert!(e.contains("name it .x3p"), "{e}");
         for (nx, ny, dx) in [(32768, 32768, 1e-4), (1, 400, 1e-4), (800, 400, 0.0)] {
             let e = grid(nx, ny, dx).check().expect_err("refused").to_string();
             assert!(e.contains("--nx") || e.contains("--dx"), "{e}");

@@ -212,3 +212,13 @@ fn text_maps_with_a_byte_order_mark_read_as_without_it() {
     let plain = xyz_from_str(&xyz).unwrap();
     assert_eq!(xyz_from_str(&format!("\u{feff}{xyz}")).unwrap(), plain);
 }
+
+/// Regression (adversarial run, 2026-11-29): a grid whose `data` line was
+/// missing was refused as 'unknown header key "1.93e-06"'.
+#[test]
+fn a_grid_without_its_data_line_says_so() {
+    use tyreroad_texture::io::text::{ascii_grid_from_str, ascii_grid_to_string};
+    let grid = ascii_grid_to_string(&map()).replacen("data\n", "", 1);
+    let e = ascii_grid_from_str(&grid).unwrap_err().to_string();
+    assert!(e.contains("`data` line") && e.contains("missing"), "{e}");
+}

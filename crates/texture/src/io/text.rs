@@ -75,6 +75,16 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
                 saw_data = true;
                 break;
             }
+            // Heights where a key should be: the header's last line is missing.
+            other if other.parse::<f64>().is_ok() => {
+                return Err(TextureError::format(
+                    GRID,
+                    format!(
+                        "a number ({other}) where a header key was expected: is the `data` line \
+                         that ends the header missing?"
+                    ),
+                ));
+            }
             other => {
                 return Err(TextureError::format(
                     GRID,
