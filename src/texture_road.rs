@@ -426,14 +426,19 @@ pub fn rolling_past_caps_warning(
     road: &crate::rolling::Road<TextureLaw>,
     result: &crate::rolling::RollingResult,
 ) -> Option<String> {
+    // Each law's force at its cap depth, once, not per step and contact.
+    let at_caps: Vec<f64> = road
+        .laws()
+        .iter()
+        .map(|law| law.force(law.geometry().max_depth()))
+        .collect();
     let (mut steps, mut contacts, mut worst) = (0, 0, 0.0_f64);
     for step in &result.steps {
         let mut here = 0;
         for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let Some(law) = road.local_id(id).and_then(|k| road.laws().get(k)) else {
+            let Some(&at_cap) = road.local_id(id).and_then(|k| at_caps.get(k)) else {
                 continue;
             };
-            let at_cap = law.force(law.geometry().max_depth());
             if at_cap > 0.0 && force > at_cap * (1.0 + 1e-9) {
                 here += 1;
                 worst = worst.max(force / at_cap);

@@ -369,8 +369,9 @@ pub(crate) fn run_texture_static(
             }
         }
     };
+    let spacing = map.dx().min(map.dy());
     let options = TwoScaleOptions {
-        map_cell: Some(map.dx().min(map.dy())),
+        map_cell: Some(spacing),
         ..TwoScaleOptions::default()
     };
     let mut statics = solved.result;
@@ -393,14 +394,12 @@ pub(crate) fn run_texture_static(
             // A load whose contacts spread too far for a map at the
             // texture's spacing gets a coarser map, not the run's failure.
             Err(TwoScaleError::MapTooLarge { cells, limit }) => {
-                let cell = options.map_cell.unwrap_or(map.dx())
-                    * (cells as f64 / limit as f64).sqrt()
-                    * 1.05;
+                let cell = spacing * (cells as f64 / limit as f64).sqrt() * 1.05;
                 notes.push(format!(
                     "pressure map on {:.3} mm cells, not the texture's {:.3} mm: at its spacing \
                      the map would have {cells} cells, more than the limit {limit}",
                     cell * 1e3,
-                    map.dx().min(map.dy()) * 1e3
+                    spacing * 1e3
                 ));
                 let coarser = TwoScaleOptions {
                     map_cell: Some(cell),

@@ -239,6 +239,10 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                 let initial = warm_start(self.carry.as_ref(), dense, frame.ids, &problem, &c);
                 solve_corrected(&problem, step.control, &options, initial.as_ref(), &c)
             }
+            // Nothing carried: the problem above already has no correction.
+            Start::Cold if warm.is_empty() => {
+                solve_corrected(&problem, step.control, &options, None, &c)
+            }
             Start::Cold => {
                 let (problem, c) = self.frame_problem(frame, &cold)?;
                 solve_corrected(&problem, step.control, &options, None, &c)
