@@ -78,6 +78,109 @@ pub fn deformation_slopes(
         .collect()
 }
 
+/// Anderson mixing of a slope iteration `σ ← g(σ)` (depth
+/// [`SlopeMixer::DEPTH`]): the next iterate combines the last iterates and
+/// their images so that the combined residual `g(σ) − σ` is smallest in
+/// least squares. A plain iteration that cycles (two tiles a fraction of
+/// a millimetre apart tilting each other in turn) lands between the
+/// states it cycles through; on a linear map it is a Krylov method. Its
+/// fixed points are those of `g`.
+#[derive(Debug, Default)]
+pub(crate) struct SlopeMixer {
+    /// `(σ_k, g(σ_k) − σ_k)`, oldest first, flattened.
+    history: std::collections::VecDeque<(Vec<f64>, Vec<f64>)>,
+}
+
+impl SlopeMixer {
+    /// Iterates remembered.
+    pub(crate) const DEPTH: usize = 5;
+
+    /// The next iterate after `x`, whose image is `gx`.
+    pub(crate) fn next(&mut self, x: &[[f64; 2]], gx: &[[f64; 2]]) -> Vec<[f64; 2]> {
+        let xk: Vec<f64> = x.iter().flatten().copied().collect();
+        let fk: Vec<f64> = x
+            .iter()
+            .zip(gx)
+            .flat_map(|(a, b)| [b[0] - a[0], b[1] - a[1]])
+            .collect();
+        if self
+            .history
+            .front()
+            .is_some_and(|(x0, _)| x0.len() != xk.len())
+        {
+            self.history.clear();
+        }
+        // Differences to the newest iterate: dx_i = x_k − x_i, df_i = f_k − f_i.
+        let (dx, df): (Vec<Vec<f64>>, Vec<Vec<f64>>) = self
+            .history
+            .iter()
+            .map(|(xi, fi)| {
+                (
+                    xk.iter().zip(xi).map(|(a, b)| a - b).collect(),
+                    fk.iter().zip(fi).map(|(a, b)| a - b).collect(),
+                )
+            })
+            .unzip();
+        let gamma = least_squares(&df, &fk);
+        let mut out: Vec<f64> = xk.iter().zip(&fk).map(|(a, f)| a + f).collect();
+        for ((g, dxi), dfi) in gamma.iter().zip(&dx).zip(&df) {
+            for ((o, a), b) in out.iter_mut().zip(dxi).zip(dfi) {
+                *o -= g * (a + b);
+            }
+        }
+        self.history.push_back((xk, fk));
+        if self.history.len() > Self::DEPTH {
+            self.history.pop_front();
+        }
+        if out.iter().any(|v| !v.is_finite()) {
+            self.history.clear();
+            return gx.to_vec();
+        }
+        out.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+    }
+}
+
+/// `γ` minimising `|f − Σ γ_i d_i|²` by the normal equations, lightly
+/// regularised (a column that adds nothing gets `γ_i ≈ 0`).
+fn least_squares(d: &[Vec<f64>], f: &[f64]) -> Vec<f64> {
+    let m = d.len();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut a = vec![vec![0.0; m + 1]; m];
+    let trace: f64 = d.iter().map(|di| dot(di, di)).sum();
+    for i in 0..m {
+        for j in 0..m {
+            a[i][j] = dot(&d[i], &d[j]);
+        }
+        a[i][i] += 1e-10 * trace + f64::MIN_POSITIVE;
+        a[i][m] = dot(&d[i], f);
+    }
+    // Gaussian elimination with partial pivoting on the augmented matrix.
+    for c in 0..m {
+        let p = (c..m)
+            .max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))
+            .unwrap_or(c);
+        a.swap(c, p);
+        let pivot = a[c][c];
+        if !(pivot.abs() > 0.0) {
+            return vec![0.0; m];
+        }
+        let (upper, lower) = a.split_at_mut(c + 1);
+        let pivot_row = &upper[c];
+        for row in lower {
+            let k = row[c] / pivot;
+            for (x, p) in row[c..].iter_mut().zip(&pivot_row[c..]) {
+                *x -= k * p;
+            }
+        }
+    }
+    let mut g = vec![0.0; m];
+    for c in (0..m).rev() {
+        let s: f64 = (c + 1..m).map(|j| a[c][j] * g[j]).sum();
+        g[c] = (a[c][m] - s) / a[c][c];
+    }
+    g
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -101,5 +204,72 @@ mod tests {
         let expected = f * 10.0 * 1e-3 / (2e-3f64).powi(3);
         assert!((g[1][0] + expected).abs() < 1e-12 * expected);
         assert!((g[0][0] - 0.5 * expected).abs() < 1e-12 * expected);
+    }
+
+    /// Iterates `g` from `x` with the mixer until `g(x) = x` to `tol`;
+    /// the rounds taken, or `None` after 50.
+    fn settle(
+        g: impl Fn(&[[f64; 2]]) -> Vec<[f64; 2]>,
+        mut x: Vec<[f64; 2]>,
+        tol: f64,
+    ) -> Option<(usize, Vec<[f64; 2]>)> {
+        let mut mixer = SlopeMixer::default();
+        for round in 1..=50 {
+            let gx = g(&x);
+            let moved = x
+                .iter()
+                .zip(&gx)
+                .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+                .fold(0.0, f64::max);
+            if moved <= tol {
+                return Some((round, x));
+            }
+            x = mixer.next(&x, &gx);
+        }
+        None
+    }
+
+    #[test]
+    fn a_slope_iteration_that_cycles_between_two_states_settles_between_them() {
+        // g(σ) = 2c − σ: the plain iteration flips between σ0 and 2c − σ0
+        // for ever (two tiles tilting each other in turn); the fixed point
+        // is c.
+        let c = [[0.05, -0.02], [0.1, 0.3]];
+        let g = |x: &[[f64; 2]]| -> Vec<[f64; 2]> {
+            x.iter()
+                .zip(&c)
+                .map(|(a, c)| [2.0 * c[0] - a[0], 2.0 * c[1] - a[1]])
+                .collect()
+        };
+        let x0 = vec![[0.0, 0.0]; 2];
+        assert_eq!(g(&g(&x0)), x0, "the plain iteration cycles");
+        let (rounds, x) = settle(g, x0, 1e-12).expect("settles");
+        assert!(rounds <= 4, "{rounds} rounds");
+        for (a, b) in x.iter().zip(&c) {
+            assert!(
+                (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12,
+                "{x:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_steep_nonlinear_slope_map_settles_on_its_own_fixed_point() {
+        // Each slope pulled towards a steep, saturating function of its
+        // neighbour's (a contact that loads and unloads): derivative −3 at
+        // the fixed point, so the plain iteration diverges into a cycle.
+        let g = |x: &[[f64; 2]]| -> Vec<[f64; 2]> {
+            vec![
+                [0.2 * (1.0 - (3.0 * (x[1][0] - 0.1) / 0.2).tanh()), 0.0],
+                [0.2 * (1.0 - (3.0 * (x[0][0] - 0.1) / 0.2).tanh()), 0.0],
+            ]
+        };
+        let x0 = vec![[0.0, 0.0], [0.3, 0.0]];
+        let (_, x) = settle(g, x0, 1e-12).expect("settles");
+        let gx = g(&x);
+        assert!(
+            (gx[0][0] - x[0][0]).abs() < 1e-12 && (gx[1][0] - x[1][0]).abs() < 1e-12,
+            "{x:?}"
+        );
     }
 }
