@@ -9,6 +9,7 @@ mod common;
 mod calibrate_along_slope;
 mod calibrate_under_tread;
 mod clusters;
+mod deformed_slope_tiles;
 mod distributed_interaction;
 mod fidelity;
 mod fidelity_fields;

@@ -127,6 +127,7 @@ mod road;
 mod run;
 mod sensor;
 mod slope;
+mod slope_rounds;
 mod spectrum;
 mod step;
 mod synth;

@@ -13,16 +13,21 @@
 //!
 //! (`f = 1/(π E*)`, the point kernel's gradient; `a_i` the contact radii,
 //! which floor the distance where two patches would overlap and the
-//! kernel's gradient across a patch no longer stands for it). Inside a
-//! footprint pressed flat the two partly cancel. With
-//! [`ContactSlope::Deformed`] each step iterates its solve with the gaps
-//! and contact points of [`crate::Tread::contact_gap_sloped`] at these
-//! slopes until no gap moves (docs/rolling.md, "Where the tread touches a
-//! cap").
+//! kernel's gradient across a patch no longer stands for it). A rolling
+//! step passes each contact's law radius capped by the Hertz radius of its
+//! force on its summit radius ([`floor_radius`]), so that the floor goes
+//! to zero with the force: a flat top's law has a patch of finite size at
+//! its first touch. Inside a footprint pressed flat the two slopes partly
+//! cancel. With [`ContactSlope::Deformed`] each step iterates its solve
+//! with the gaps and contact points of [`crate::Tread::contact_gap_sloped`]
+//! at these slopes, mixed with the rounds before ([`SlopeMixer`]), until
+//! no gap moves (docs/rolling.md, "Where the tread touches a cap").
 //!
 //! Invariants: with no other loaded contact `∇u = 0` and the profile's
 //! contact point is recovered exactly; the slopes depend only on the
-//! step's positions, forces and radii (not on the order or the chunking).
+//! step's positions, forces and radii (not on the order or the chunking);
+//! the floor radius is continuous in the force; the mixer's fixed points
+//! are the plain update's.
 
 /// How a rolling step finds where the tread touches each cap (on a road
 /// with summit radii; without radii every gap is the summit's).
@@ -76,6 +81,22 @@ pub fn deformation_slopes(
             g
         })
         .collect()
+}
+
+/// The radius a contact lends the slope kernel's floor
+/// ([`crate::deformation_slopes`]): its law's contact radius `a`, but no
+/// more than the Hertz radius `(3 P R / (4 E*))^(1/3)` of its force on its
+/// summit radius `R`. A flat top's law has a patch of finite size at the
+/// first touch, and the floor then jumped with it as the contact turned on
+/// and off: the slope iteration had no fixed point to settle on (a 130 mm
+/// porous-asphalt road, every step). The Hertz radius goes to zero with
+/// the force, so the floor is continuous; on a rounded summit the two agree.
+pub(crate) fn floor_radius(a: f64, force: f64, summit_radius: f64, reduced_modulus: f64) -> f64 {
+    if !(force > 0.0) {
+        return 0.0;
+    }
+    let hertz = (0.75 * force * summit_radius / reduced_modulus).cbrt();
+    if hertz.is_finite() { a.min(hertz) } else { a }
 }
 
 /// Anderson mixing of a slope iteration `σ ← g(σ)` (depth
@@ -227,6 +248,21 @@ mod tests {
             x = mixer.next(&x, &gx);
         }
         None
+    }
+
+    #[test]
+    fn the_floor_radius_is_continuous_as_a_flat_top_comes_into_contact() {
+        // A 5 mm tile's law has a 1.3 mm patch at its first touch; the
+        // floor follows the Hertz radius up to it, from zero.
+        let (a, r, e) = (1.3e-3, 2e-3, 8.72e6);
+        assert_eq!(floor_radius(a, 0.0, r, e), 0.0);
+        let tiny = floor_radius(a, 1e-6, r, e);
+        assert!(tiny > 0.0 && tiny < 1e-5, "{tiny}");
+        let hertz = (0.75 * 1.0 * r / e).cbrt();
+        assert!((floor_radius(a, 1.0, r, e) - hertz).abs() < 1e-15);
+        assert_eq!(floor_radius(a, 1e3, r, e), a, "capped by the law's patch");
+        // An unknown summit radius leaves the law's.
+        assert_eq!(floor_radius(a, 1.0, f64::INFINITY, e), a);
     }
 
     #[test]

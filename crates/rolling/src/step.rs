@@ -5,7 +5,7 @@
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
     Boussinesq, Control, Convergence, PairCorrection, Par, Problem, Recovery, Solution, SolveError,
-    SolverOptions, overlapping_contacts, solve_corrected, solve_from,
+    SolverOptions, overlapping_contacts, solve_corrected,
 };
 
 use crate::coupling::{
@@ -14,9 +14,9 @@ use crate::coupling::{
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::slope::SlopeMixer;
+use crate::slope_rounds::{consistent_start, contact_radii, deformed_slopes, settle_slopes};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
-    deformation_slopes,
 };
 
 /// The selected asperity ids and the multipoint problem on them.
@@ -242,28 +242,6 @@ pub fn contact_points<L>(
             sloped_contact_point(road, config, xc, i, extra)
         })
         .collect()
-}
-
-/// The deformation's slopes at the summits of `ids` ([`crate::deformation_slopes`]),
-/// or `None` when the run places contacts under the undeformed profile.
-pub(crate) fn deformed_slopes<L>(
-    road: &Road<L>,
-    material: Material,
-    config: &RollingConfig,
-    ids: &[usize],
-    forces: &[f64],
-    radii: &[f64],
-) -> Option<Vec<[f64; 2]>> {
-    if config.contact_slope != ContactSlope::Deformed {
-        return None;
-    }
-    let summits: Vec<[f64; 2]> = ids.iter().map(|&i| road.positions()[i]).collect();
-    Some(deformation_slopes(
-        &summits,
-        forces,
-        radii,
-        material.boussinesq_factor(),
-    ))
 }
 
 pub(crate) fn imposed<L>(road: &Road<L>, control: RollingControl) -> Control {
@@ -642,125 +620,6 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     s.iterations = iterations;
     if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
         return Ok(Ok((s, used)));
-    }
-    Ok(Err(SolveError::NotConverged {
-        iterations,
-        load_steps: 0,
-        residual: change,
-    }))
-}
-
-/// Rounds of a step's slope iteration ([`settle_slopes`]) before the
-/// step is recorded as failed.
-const SLOPE_ROUNDS: usize = 30;
-
-/// The largest move of a finite gap between two problems of the same
-/// asperities (m).
-fn largest_gap_move<L: ContactLaw>(a: &Problem<&L>, b: &Problem<&L>) -> f64 {
-    a.gaps()
-        .iter()
-        .zip(b.gaps())
-        .filter(|(a, b)| a.is_finite() && b.is_finite())
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max)
-}
-
-/// A step's gaps have settled when no gap moves by more than this
-/// fraction of the deepest interpenetration between two rounds.
-const SLOPE_TOLERANCE: f64 = 1e-7;
-
-/// Each asperity's contact radius in `solution` (0 out of contact).
-fn contact_radii<L: ContactLaw>(solution: &Solution, problem: &Problem<&L>) -> Vec<f64> {
-    solution
-        .local_contacts(problem)
-        .iter()
-        .map(|c| {
-            if c.force > 0.0 {
-                c.radius.max(0.0)
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
-/// `solution`'s forces and approach with the interpenetrations of
-/// `problem` (`δ = δ0 − H − (T + C) P`): a warm start after the gaps moved.
-fn consistent_start<L: ContactLaw>(
-    problem: &Problem<&L>,
-    material: Material,
-    solution: &Solution,
-    correction: &PairCorrection,
-) -> Solution {
-    let mut u = vec![0.0; solution.forces.len()];
-    Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-        &solution.forces,
-        &mut u,
-        Par::Seq,
-    );
-    correction.apply_add(&solution.forces, &mut u);
-    let depths = problem
-        .gaps()
-        .iter()
-        .zip(&u)
-        .map(|(h, u)| solution.approach - h - u)
-        .collect();
-    let mut start = Solution::warm_start(solution.forces.clone(), depths, solution.approach);
-    start.iterations = solution.iterations;
-    start
-}
-
-/// An uncoupled step under the deformed tread: solve, move each gap to
-/// the slopes the forces cause ([`crate::deformation_slopes`]), solve
-/// again from there, until no gap moves by more than [`SLOPE_TOLERANCE`]
-/// of the deepest interpenetration. Under the profile (`slopes` `None`)
-/// one solve. The slopes are mixed with the rounds before
-/// ([`SlopeMixer`]): two tiles a fraction of a millimetre apart tilt each
-/// other, and the plain iteration can cycle between one loaded and the
-/// other (porous asphalt's 5 mm tiles: 15 of 16 cold steps failed so); the
-/// mix has the same fixed point. A step still moving after
-/// [`SLOPE_ROUNDS`] is its failure, the last move over the depth its
-/// residual.
-fn settle_slopes<'p, L: ContactLaw + Sync>(
-    (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
-    (ids, laws): (&[usize], &[&'p L]),
-    (problem, slopes): (&mut Problem<&'p L>, &mut Option<Vec<[f64; 2]>>),
-    (control, options): (Control, &SolverOptions),
-    initial: Option<&Solution>,
-) -> Result<Result<Solution, SolveError>, RollingError> {
-    let mut s = match solve_from(problem, control, options, initial) {
-        Ok(s) => s,
-        Err(e) => return Ok(Err(e)),
-    };
-    let Some(current) = slopes.as_mut() else {
-        return Ok(Ok(s));
-    };
-    let mut iterations = s.iterations;
-    let mut change = f64::INFINITY;
-    let mut mixer = SlopeMixer::default();
-    let build =
-        |slopes: &[[f64; 2]]| build_at(road, material, config, xc, ids, laws, false, Some(slopes));
-    for _ in 0..SLOPE_ROUNDS {
-        let radii = contact_radii(&s, problem);
-        let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii) else {
-            return Ok(Ok(s));
-        };
-        let depth = s.depths.iter().fold(0.0f64, |m, &d| m.max(d));
-        change = largest_gap_move(&build(&next)?, problem) / depth.max(f64::MIN_POSITIVE);
-        if change <= SLOPE_TOLERANCE {
-            // Solved with gaps this close to the settled ones.
-            *current = next;
-            s.iterations = iterations;
-            return Ok(Ok(s));
-        }
-        *current = mixer.next(current, &next);
-        *problem = build(current)?;
-        let start = consistent_start(problem, material, &s, &PairCorrection::default());
-        s = match solve_from(problem, control, options, Some(&start)) {
-            Ok(s) => s,
-            Err(e) => return Ok(Err(e)),
-        };
-        iterations += s.iterations;
     }
     Ok(Err(SolveError::NotConverged {
         iterations,
