@@ -105,7 +105,7 @@ impl Scan {
             }
         };
         let img = image::load_from_memory_with_format(bytes, format)
-            .map_err(|e| img_err(e.to_string()))?;
+            .map_err(|e| img_err(decode_message(&e)))?;
         let (grey, bit_depth) = extract_channel(&img, channel).map_err(img_err)?;
         let (w, h) = (img.width() as usize, img.height() as usize);
         Self::from_grey(w, h, grey, pixel_size, bit_depth).map_err(|e| match e {
@@ -281,6 +281,20 @@ fn png_pixel_size(bytes: &[u8]) -> std::result::Result<Option<f64>, String> {
 
 /// Pixel size from a TIFF's XResolution and ResolutionUnit (2 = inch,
 /// 3 = centimetre; 1 = none gives no size).
+/// What a failed decode says: a file that ends before its image data does
+/// is said to be cut short rather than "failed to fill whole buffer".
+fn decode_message(e: &image::ImageError) -> String {
+    let short = match e {
+        image::ImageError::IoError(io) => io.kind() == std::io::ErrorKind::UnexpectedEof,
+        other => other.to_string().contains("failed to fill whole buffer"),
+    };
+    if short {
+        format!("the file ends before its image data does (truncated?): {e}")
+    } else {
+        e.to_string()
+    }
+}
+
 fn tiff_pixel_size(bytes: &[u8]) -> std::result::Result<Option<f64>, String> {
     use tiff::decoder::ifd::Value;
     use tiff::tags::Tag;

@@ -174,6 +174,24 @@ fn unreadable_images_are_errors_that_name_the_file() {
     assert!(Scan::from_grey(3, 3, vec![0.5; 8], None, 8).is_err());
 }
 
+/// Regression (second adversarial run): a TIFF cut short said only
+/// "failed to fill whole buffer".
+#[test]
+fn a_truncated_tiff_is_said_to_be_cut_short() {
+    let mut buf = Vec::new();
+    ImageBuffer::from_fn(W, H, |x, _| Luma([x as u8]))
+        .write_to(&mut Cursor::new(&mut buf), ImageFormat::Tiff)
+        .ok();
+    assert!(Scan::decode(&buf, Channel::Auto, Path::new("whole.tif")).is_ok());
+    buf.truncate(buf.len() / 2);
+    let msg = Scan::decode(&buf, Channel::Auto, Path::new("cut.tif"))
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(msg.starts_with("unreadable image cut.tif"), "{msg}");
+    assert!(msg.contains("truncated"), "{msg}");
+}
+
 fn synthetic_25() -> Result<(Detection, FilmResponse)> {
     let rows = paper_hertz_rows(&[289.0], 6.54e6, 0.5, 5e-3);
     let film = FilmResponse::new(Calibration::llw(LlwCurve::B)?, Scanner::default());

@@ -169,6 +169,16 @@ fn floats_nd(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>, bool), TextureError>
 /// this cannot parse is left to the reader's own errors.
 fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
     let Some((header, data)) = split_header(bytes) else {
+        if bytes.starts_with(b"\x93NUMPY") {
+            return Err(TextureError::format(
+                NPY,
+                format!(
+                    "the header runs past the end of the file ({} bytes): the file is cut \
+                     short, or its header length is wrong",
+                    bytes.len()
+                ),
+            ));
+        }
         return Ok(());
     };
     let Some(Ok(dims)) = header_shape::<u128>(&header) else {
@@ -317,6 +327,23 @@ pub(crate) mod tests {
         let err = npy_from_bytes(&short, 1e-4, 1e-4).unwrap_err().to_string();
         assert!(err.contains("9 points"), "{err}");
         assert!(npy_from_bytes(&forged_npy("(3, 3)", 72), 1e-4, 1e-4).is_ok());
+    }
+
+    /// Regression (second adversarial run): a header length past the end
+    /// of the file said only "failed to fill whole buffer".
+    #[test]
+    fn a_header_longer_than_its_file_is_said_to_be_cut_short() {
+        let mut bytes = forged_npy("(3, 3)", 72);
+        bytes[8..10].copy_from_slice(&60000u16.to_le_bytes());
+        let err = npy_from_bytes(&bytes, 1e-4, 1e-4).unwrap_err().to_string();
+        assert!(
+            err.contains("header runs past the end of the file"),
+            "{err}"
+        );
+        let err = npy_from_bytes(&bytes[..9], 1e-4, 1e-4)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("cut short"), "{err}");
     }
 
     /// NaN marks a missing point (the documented convention); an infinite
