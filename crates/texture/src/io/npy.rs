@@ -92,7 +92,20 @@ pub fn read_npz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
         Ok(bytes)
     };
     let heights = member("heights.npy")?;
-    let spacing = floats(&member("spacing.npy")?)?.1;
+    // The dtype check speaks of height maps; the spacing is said as itself.
+    let spacing = floats(&member("spacing.npy")?)
+        .map_err(|e| match e {
+            TextureError::Unsupported { message, .. } => TextureError::format(
+                NPY,
+                format!(
+                    "`spacing` in {} must hold [dx, dy] in metres as floats, not {}",
+                    path.display(),
+                    message.split(':').next().unwrap_or(&message)
+                ),
+            ),
+            other => other,
+        })?
+        .1;
     let (dx, dy) = match spacing[..] {
         [d] => (d, d),
         [dx, dy] => (dx, dy),
@@ -379,6 +392,24 @@ pub(crate) mod tests {
         zip.finish().unwrap();
         let map = super::super::read_any(&npz).unwrap();
         assert_eq!((map.nx(), map.dx()), (2, 3e-4));
+
+        // Regression (second adversarial run): an int64 spacing was
+        // refused as "height maps are float64 or float32".
+        let int_spacing = dir.join("i.npz");
+        let mut zip = zip::ZipWriter::new(std::fs::File::create(&int_spacing).unwrap());
+        zip.start_file("heights.npy", opts).unwrap();
+        std::io::Write::write_all(&mut zip, &npy(&[2, 2], &[0.0f64, 1.0, 2.0, 3.0])).unwrap();
+        zip.start_file("spacing.npy", opts).unwrap();
+        std::io::Write::write_all(&mut zip, &npy(&[2], &[1i64, 1])).unwrap();
+        zip.finish().unwrap();
+        let err = super::super::read_any(&int_spacing)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("`spacing`") && err.contains("dtype <i8"),
+            "{err}"
+        );
+        assert!(!err.contains("height maps"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
