@@ -24,7 +24,7 @@
 //! spread, placed at its contact point, instead of the law's Hertz or cone
 //! disc ([`crate::Sensor::share_spread`]).
 
-use tyreroad_multipoint::{Convergence, PairCorrection, Problem, Solution, SolveError};
+use tyreroad_multipoint::{Control, Convergence, PairCorrection, Problem, Solution, SolveError};
 
 /// The state of one step that a correction is computed from.
 #[derive(Debug)]
@@ -240,6 +240,23 @@ pub fn stalled_fixed_point(mut s: Solution, change: f64, acceptable: f64) -> Opt
     })
 }
 
+/// `max_i |next_i − last_i|`: how far a step's forces moved in a round.
+pub(crate) fn largest_change(next: &[f64], last: &[f64]) -> f64 {
+    next.iter()
+        .zip(last)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The force a step's changes are measured against: the load, or under an
+/// imposed approach the sum of `forces`.
+pub(crate) fn force_scale(control: Control, forces: &[f64]) -> f64 {
+    match control {
+        Control::Load(w) => w,
+        Control::Approach(_) => forces.iter().sum(),
+    }
+}
+
 /// Distance between two points of the road plane.
 fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
@@ -303,12 +320,7 @@ impl FixedPointDamping {
     /// The round's change, `max_i |next_i − last_i| / scale`, recorded to
     /// set the next rounds' weight.
     pub fn change(&mut self, round: usize, next: &[f64], last: &[f64], scale: f64) -> f64 {
-        let change = next
-            .iter()
-            .zip(last)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max)
-            / scale;
+        let change = largest_change(next, last) / scale;
         if round >= Self::WHOLE_ROUNDS && change > 0.5 * self.previous {
             self.weight = (0.5 * self.weight).max(1.0 / 16.0);
         }

@@ -20,7 +20,7 @@ use tyreroad_multipoint::{
     solve_from,
 };
 
-use crate::coupling::stalled_fixed_point;
+use crate::coupling::{force_scale, largest_change, stalled_fixed_point};
 use crate::slope::{SlopeMixer, floor_radius};
 use crate::step::build_at;
 use crate::{ContactSlope, Road, RollingConfig, RollingError, deformation_slopes};
@@ -96,29 +96,47 @@ pub(crate) fn contact_radii<L: ContactLaw>(solution: &Solution, problem: &Proble
 }
 
 /// `solution`'s forces and approach with the interpenetrations of
-/// `problem` (`δ = δ0 − H − (T + C) P`): a warm start after the gaps moved.
+/// `problem`: a warm start after the gaps moved ([`warm_start_at`]).
 pub(crate) fn consistent_start<L: ContactLaw>(
     problem: &Problem<&L>,
     material: Material,
     solution: &Solution,
     correction: &PairCorrection,
 ) -> Solution {
-    let mut u = vec![0.0; solution.forces.len()];
+    let mut start = warm_start_at(
+        problem,
+        material,
+        solution.forces.clone(),
+        solution.approach,
+        correction,
+    );
+    start.iterations = solution.iterations;
+    start
+}
+
+/// A warm start of `problem` at `forces` and `approach`, with the local
+/// interpenetrations they imply, `δ = δ0 − H − (T + C) P`.
+pub(crate) fn warm_start_at<L: ContactLaw>(
+    problem: &Problem<&L>,
+    material: Material,
+    forces: Vec<f64>,
+    approach: f64,
+    correction: &PairCorrection,
+) -> Solution {
+    let mut u = vec![0.0; forces.len()];
     Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-        &solution.forces,
+        &forces,
         &mut u,
         Par::Seq,
     );
-    correction.apply_add(&solution.forces, &mut u);
+    correction.apply_add(&forces, &mut u);
     let depths = problem
         .gaps()
         .iter()
         .zip(&u)
-        .map(|(h, u)| solution.approach - h - u)
+        .map(|(h, u)| approach - h - u)
         .collect();
-    let mut start = Solution::warm_start(solution.forces.clone(), depths, solution.approach);
-    start.iterations = solution.iterations;
-    start
+    Solution::warm_start(forces, depths, approach)
 }
 
 /// An uncoupled step under the deformed tread: solve, move each gap to
@@ -171,7 +189,8 @@ pub(crate) fn settle_slopes<'p, L: ContactLaw + Sync>(
             Ok(next) => next,
             Err(e) => return Ok(Err(e)),
         };
-        force_change = largest_force_change(&next.forces, &s.forces, control);
+        force_change = largest_change(&next.forces, &s.forces)
+            / force_scale(control, &next.forces).max(f64::MIN_POSITIVE);
         s = next;
         iterations += s.iterations;
     }
@@ -184,19 +203,4 @@ pub(crate) fn settle_slopes<'p, L: ContactLaw + Sync>(
         load_steps: 0,
         residual: change,
     }))
-}
-
-/// `max_i |next_i − last_i|` over the load (the forces' sum under an
-/// imposed approach).
-fn largest_force_change(next: &[f64], last: &[f64], control: Control) -> f64 {
-    let scale = match control {
-        Control::Load(w) => w,
-        Control::Approach(_) => next.iter().sum(),
-    };
-    let change = next
-        .iter()
-        .zip(last)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
-    if scale > 0.0 { change / scale } else { change }
 }

@@ -4,17 +4,19 @@
 
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
-    Boussinesq, Control, Convergence, PairCorrection, Par, Problem, Recovery, Solution, SolveError,
+    Control, Convergence, PairCorrection, Par, Problem, Recovery, Solution, SolveError,
     SolverOptions, overlapping_contacts, solve_corrected,
 };
 
 use crate::coupling::{
-    CouplingState, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve,
+    CouplingState, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve, force_scale,
     stalled_fixed_point,
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::slope::SlopeMixer;
-use crate::slope_rounds::{consistent_start, contact_radii, deformed_slopes, settle_slopes};
+use crate::slope_rounds::{
+    consistent_start, contact_radii, deformed_slopes, settle_slopes, warm_start_at,
+};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
 };
@@ -382,22 +384,9 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         for &i in &c.ids {
             scratch.dense[i] = 0.0;
         }
-        // Consistent local interpenetrations δ_i = δ0 − H_i − (T P)_i of the
-        // mapped state (the solver may iterate on them).
-        let mut u = vec![0.0; forces.len()];
-        Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-            &forces,
-            &mut u,
-            Par::Seq,
-        );
-        warm_correction.apply_add(&forces, &mut u);
-        let depths = problem
-            .gaps()
-            .iter()
-            .zip(&u)
-            .map(|(h, u)| c.approach - h - u)
-            .collect();
-        Solution::warm_start(forces, depths, c.approach)
+        // Consistent local interpenetrations of the mapped state (the
+        // solver may iterate on them).
+        warm_start_at(&problem, material, forces, c.approach, &warm_correction)
     });
     let options = SolverOptions {
         tolerance: config.tolerance,
@@ -552,10 +541,7 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     };
     let mut s = first.solution;
     let mut iterations = first.spent + s.iterations;
-    let scale = match control {
-        Control::Load(w) => w,
-        Control::Approach(_) => s.forces.iter().sum(),
-    };
+    let scale = force_scale(control, &s.forces);
     if !(scale > 0.0) {
         // Nothing in contact: nothing to couple.
         coupling.settled(0);
