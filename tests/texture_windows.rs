@@ -83,6 +83,10 @@ fn windows_of_a_npy_texture_equal_the_whole_road_restricted_to_them() {
         assert_eq!(npy.len(), whole.len());
         assert_eq!(npy.segmented(), built.segmentation.asperities().len());
         assert_eq!(npy.top().to_bits(), whole.top().to_bits());
+        // Regression (2026-11-30): the missing points are counted tile by
+        // tile, as the whole map counts them (the asphalt lacks 26).
+        assert_eq!(npy.valid_points(), (map.valid_count(), map.heights().len()));
+        assert_eq!(map.heights().len() - map.valid_count(), 26);
         assert_eq!(npy.digest(), whole.digest());
         // Per-block counts: the blocks' ids tile 0..N, each block's the
         // whole road's asperities of that block.
@@ -298,5 +302,16 @@ min_area = "1 mm2"
             a.rms,
             b.rms
         );
+        // Both say that points are missing, as a whole map's summary does.
+        for summary in [a, b] {
+            assert!(
+                summary
+                    .warnings
+                    .iter()
+                    .any(|w| w.starts_with("26 of 256000 points (0.01 %) are missing")),
+                "{:?}",
+                summary.warnings
+            );
+        }
     }
 }

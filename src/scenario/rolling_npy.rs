@@ -69,10 +69,15 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         asperities: road.len(),
         segmented: road.segmented(),
         calibration: None,
-        // Sq only: the heights are read tile by tile, never whole.
-        warnings: super::texture::roughness_warning(road.rms())
-            .into_iter()
-            .collect(),
+        // Sq and the missing points only: the heights are read tile by
+        // tile, never whole, so no percentiles for the outliers' check.
+        warnings: super::texture::missing_points_warning(
+            road.valid_points().0,
+            road.valid_points().1,
+        )
+        .into_iter()
+        .chain(super::texture::roughness_warning(road.rms()))
+        .collect(),
     }
 }
 

@@ -179,18 +179,26 @@ pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
             ));
         }
     }
-    let (valid, total) = (map.valid_count(), map.heights().len());
-    if valid < total {
+    warnings.extend(missing_points_warning(
+        map.valid_count(),
+        map.heights().len(),
+    ));
+    warnings.extend(map.rms().and_then(roughness_warning));
+    warnings
+}
+
+/// A warning when some of a map's `total` points are missing (`valid` hold
+/// a height).
+pub(crate) fn missing_points_warning(valid: usize, total: usize) -> Option<String> {
+    (valid < total).then(|| {
         let missing = total - valid;
-        warnings.push(format!(
+        format!(
             "{missing} of {total} points ({:.2} %) are missing (NaN or the format's marker): \
              asperities are segmented around them, so one crossed by missing points may be \
              split or lost (docs/texture.md)",
             100.0 * missing as f64 / total as f64
-        ));
-    }
-    warnings.extend(map.rms().and_then(roughness_warning));
-    warnings
+        )
+    })
 }
 
 /// A warning when `sq` (m) is no road texture's roughness.

@@ -78,6 +78,8 @@ pub struct NpyTextureRoad {
     segmented: usize,
     /// Sq of the valid heights (m).
     rms: f64,
+    /// Valid (finite) heights of the whole map.
+    valid: usize,
 }
 
 /// An asperity's place in the rolling order (module documentation).
@@ -172,6 +174,7 @@ impl NpyTextureRoad {
             digest: 0,
             segmented: 0,
             rms: f64::NAN,
+            valid: 0,
         };
         let mean;
         (road.whole_first, mean) = road.first_point()?;
@@ -213,6 +216,7 @@ impl NpyTextureRoad {
         road.digest = digest.finish();
         road.segmented = segmented;
         road.rms = (squares.0 / squares.1 as f64).sqrt();
+        road.valid = squares.1;
         Ok(road)
     }
     /// Asperities of the whole road.
@@ -251,6 +255,12 @@ impl NpyTextureRoad {
     /// The map's grid spacing along x and y (m).
     pub fn spacing(&self) -> (f64, f64) {
         self.spacing
+    }
+
+    /// The map's points and how many of them hold a height (the others
+    /// are missing: NaN in the file), counted over the tiles.
+    pub fn valid_points(&self) -> (usize, usize) {
+        (self.valid, self.layout.nx * self.layout.ny)
     }
 
     /// Sq of the map's valid heights (m): their root mean square about
