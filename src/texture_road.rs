@@ -422,15 +422,23 @@ pub fn pressed_past_caps(cap_depths: &[f64], depths: &[f64]) -> Vec<PastCap> {
 /// contacts over all steps, and the largest force over the law's force at
 /// its cap depth. A law is monotone in the depth, so a force above that is
 /// a depth below the cap.
+///
+/// `stiffening` bounds a contact's force over its law's at the same depth:
+/// 1 for an elastic tread of the laws' modulus; `E₀/E_ref` for a
+/// viscoelastic one (its force `(E_eff/E_ref) P(δ) + h` with `E_eff ≤ E₀`
+/// and the memory `h ≤ 0`, docs/viscoelastic.md), whose contacts above
+/// that bound are certainly past their caps and are counted "or more".
 pub fn rolling_past_caps_warning(
     road: &crate::rolling::Road<TextureLaw>,
     result: &crate::rolling::RollingResult,
+    stiffening: f64,
 ) -> Option<String> {
+    let stiffening = stiffening.max(1.0);
     // Each law's force at its cap depth, once, not per step and contact.
     let at_caps: Vec<f64> = road
         .laws()
         .iter()
-        .map(|law| law.force(law.geometry().max_depth()))
+        .map(|law| stiffening * law.force(law.geometry().max_depth()))
         .collect();
     let (mut steps, mut contacts, mut worst) = (0, 0, 0.0_f64);
     for step in &result.steps {
@@ -447,12 +455,20 @@ pub fn rolling_past_caps_warning(
         contacts += here;
         steps += usize::from(here > 0);
     }
+    let (or_more, there) = if stiffening > 1.0 {
+        (
+            " or more",
+            "the force the tread's instantaneous modulus gives there",
+        )
+    } else {
+        ("", "the force there")
+    };
     (contacts > 0).then(|| {
         format!(
-            "at {steps} step(s) {contacts} contact(s) were pressed past the depth their caps \
-             are tabulated to (up to {worst:.2}× the force there): their whole basins were in \
-             contact, and past that depth their laws are an extrapolation (vertical walls), \
-             not the road's shape (a spike pressed through to a flat around it?)"
+            "at {steps} step(s){or_more}, {contacts} contact(s){or_more} were pressed past the \
+             depth their caps are tabulated to (up to {worst:.2}× {there}): their whole basins \
+             were in contact, and past that depth their laws are an extrapolation (vertical \
+             walls), not the road's shape (a spike pressed through to a flat around it?)"
         )
     })
 }

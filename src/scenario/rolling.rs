@@ -198,7 +198,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
         {
             summary
                 .warnings
-                .extend(rolling_past_caps_warning(&road, &run.result));
+                .extend(rolling_past_caps_warning(&road, &run.result, 1.0));
         }
         return Ok(rolled);
     }

@@ -24,7 +24,7 @@ use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::rolling_fields::FieldRolling;
 use crate::fidelity::{CalibratedLaw, Fidelity};
-use crate::texture_road::rolling_road;
+use crate::texture_road::{rolling_past_caps_warning, rolling_road};
 
 /// The time dimension of relaxation times.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -624,7 +624,25 @@ impl Scenario {
             let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling_road(set, radii, summary.top)?;
-            return Ok(sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None));
+            let mut runs = sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None);
+            for (run, case) in runs.iter_mut().zip(sweep.cases) {
+                // A case whose series does not shift to its temperature
+                // failed in its run already.
+                if let Ok(run) = run
+                    && let RoadSummary::Texture(summary) = &mut run.road
+                    && let Ok(tread) = visco.at(&series, case.temperature)
+                {
+                    // The laws are at [material]'s modulus; the tread is at
+                    // most its instantaneous modulus stiffer.
+                    let stiffening = tread.instantaneous() / material.youngs_modulus();
+                    summary.warnings.extend(rolling_past_caps_warning(
+                        &road,
+                        &run.result,
+                        stiffening,
+                    ));
+                }
+            }
+            return Ok(runs);
         }
         match (self.asperities.is_empty(), &spec.synthetic_road) {
             (false, None) => {
