@@ -193,6 +193,27 @@ fn x3p_with_a_zero_or_negative_z_increment_is_refused() {
     }
 }
 
+/// Regression (adversarial run, 2026-11-29): an X3P whose `MatrixDimension`
+/// held two `SizeX` was read with the first, whatever the second said.
+/// A second copy of any element the reader takes is refused, naming it.
+#[test]
+fn x3p_with_an_element_given_twice_is_refused_naming_it() {
+    let bytes = x3p_to_bytes(&map(), X3pDataType::I16).unwrap();
+    let twice = |tag: &'static str| {
+        move |xml: String| {
+            let start = xml.find(&format!("<{tag}>")).unwrap();
+            let end = xml[start..].find(&format!("</{tag}>")).unwrap() + start + tag.len() + 3;
+            let element = xml[start..end].to_string();
+            format!("{}{element}{}", &xml[..end], &xml[end..])
+        }
+    };
+    for tag in ["SizeX", "Increment", "DataLink", "MatrixDimension"] {
+        let bad = edit_x3p(&bytes, twice(tag), |_| ());
+        let e = x3p_from_bytes(&bad).unwrap_err().to_string();
+        assert!(e.contains(&format!("{tag} twice")), "{tag}: {e}");
+    }
+}
+
 /// Regression (adversarial run, 2026-11-29): a text map saved with a UTF-8
 /// byte-order mark was refused as 'unknown header key "\u{feff}#"'. The
 /// mark is not data: the map reads as without it.

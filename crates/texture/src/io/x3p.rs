@@ -108,9 +108,27 @@ fn read_entry<R: Read + std::io::Seek>(
     Ok(Some(out))
 }
 
-fn child<'a, 'i>(node: roxmltree::Node<'a, 'i>, name: &str) -> Option<roxmltree::Node<'a, 'i>> {
-    node.children()
-        .find(|c| c.is_element() && c.tag_name().name() == name)
+/// The element `name` under `node`, if any. Every element this reader
+/// takes is single-valued: a second one (two `SizeX`, say) is refused
+/// rather than the first silently used.
+fn child<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    name: &str,
+) -> Result<Option<roxmltree::Node<'a, 'i>>, TextureError> {
+    let mut found = node
+        .children()
+        .filter(|c| c.is_element() && c.tag_name().name() == name);
+    let first = found.next();
+    if found.next().is_some() {
+        return Err(TextureError::format(
+            FMT,
+            format!(
+                "main.xml has {name} twice under {}: which one is meant?",
+                node.tag_name().name()
+            ),
+        ));
+    }
+    Ok(first)
 }
 
 fn need<'a, 'i>(
@@ -119,7 +137,7 @@ fn need<'a, 'i>(
 ) -> Result<roxmltree::Node<'a, 'i>, TextureError> {
     let mut n = node;
     for p in path {
-        n = child(n, p).ok_or_else(|| {
+        n = child(n, p)?.ok_or_else(|| {
             TextureError::format(FMT, format!("main.xml has no element {}", path.join("/")))
         })?;
     }
@@ -152,12 +170,12 @@ struct Axis {
 
 fn axis(axes: roxmltree::Node<'_, '_>, name: &str) -> Result<Axis, TextureError> {
     let a = need(axes, &[name])?;
-    let axis_type = child(a, "AxisType").map(text).unwrap_or("").to_string();
-    let increment = match child(a, "Increment") {
+    let axis_type = child(a, "AxisType")?.map(text).unwrap_or("").to_string();
+    let increment = match child(a, "Increment")? {
         Some(n) => number(n, &format!("{name}/Increment"))?,
         None => 1.0,
     };
-    let offset = match child(a, "Offset") {
+    let offset = match child(a, "Offset")? {
         Some(n) => number(n, &format!("{name}/Offset"))?,
         None => 0.0,
     };
@@ -243,7 +261,7 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
     }
     let ztype = X3pDataType::from_code(text(need(axes, &["CZ", "DataType"])?))?;
     let record3 = need(root, &["Record3"])?;
-    let dims = child(record3, "MatrixDimension").ok_or_else(|| {
+    let dims = child(record3, "MatrixDimension")?.ok_or_else(|| {
         TextureError::unsupported(FMT, "point list data (no Record3/MatrixDimension)")
     })?;
     let nx = size(need(dims, &["SizeX"])?, "SizeX")?;
@@ -256,7 +274,7 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
         ));
     }
     let n = check_size(nx, ny).map_err(|e| TextureError::format(FMT, e.to_string()))?;
-    let link = child(record3, "DataLink").ok_or_else(|| {
+    let link = child(record3, "DataLink")?.ok_or_else(|| {
         TextureError::unsupported(FMT, "point data inside main.xml (no Record3/DataLink)")
     })?;
     let data_name = text(need(link, &["PointDataLink"])?).to_string();
@@ -295,11 +313,11 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
             ),
         ));
     }
-    if let Some(sum) = child(link, "MD5ChecksumPointData") {
+    if let Some(sum) = child(link, "MD5ChecksumPointData")? {
         check_md5(&data_name, text(sum), &data)?;
     }
     let mut valid = vec![true; n];
-    if let Some(vlink) = child(link, "ValidPointsLink") {
+    if let Some(vlink) = child(link, "ValidPointsLink")? {
         let vname = text(vlink).to_string();
         if !vname.is_empty() {
             let vbytes = n.div_ceil(8);
@@ -311,7 +329,7 @@ pub fn x3p_from_bytes(bytes: &[u8]) -> Result<HeightMap, TextureError> {
                     format!("{vname} holds {} bytes, expected {vbytes}", buf.len()),
                 ));
             }
-            if let Some(sum) = child(link, "MD5ChecksumValidPoints") {
+            if let Some(sum) = child(link, "MD5ChecksumValidPoints")? {
                 check_md5(&vname, text(sum), &buf)?;
             }
             for (k, v) in valid.iter_mut().enumerate() {
