@@ -17,7 +17,7 @@ pub enum TextureError {
     #[error("invalid height map: {0}")]
     InvalidMap(String),
     /// A parameter is out of its range.
-    #[error("invalid {name}: {value} (must be {requirement})")]
+    #[error("invalid {name}: {value:?} (must be {requirement})")]
     InvalidParameter {
         /// Which parameter.
         name: &'static str,

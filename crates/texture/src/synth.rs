@@ -85,7 +85,17 @@ fn freq(k: usize, n: usize) -> f64 {
     }
 }
 
+/// The largest Sq [`self_affine`] synthesises (m).
+pub const MAX_SYNTH_RMS: f64 = 1.0;
+
 /// Synthesise a self-affine surface (see [`SelfAffine`]).
+///
+/// # Errors
+/// [`TextureError::InvalidParameter`] naming a spacing, `rms` (in
+/// `(0, 1 m]`), `hurst` (in `(0, 1]`) or a wavelength out of its range
+/// (`λ_short < λ_long`, `λ_long ≥ 2 max(dx, dy)`);
+/// [`TextureError::NotEnoughData`] when no wavenumber of the grid falls in
+/// the band.
 pub fn self_affine(p: &SelfAffine) -> Result<HeightMap, TextureError> {
     let n = check_size(p.nx, p.ny)?;
     validate::positive("dx", p.dx)?;
@@ -105,6 +115,25 @@ pub fn self_affine(p: &SelfAffine) -> Result<HeightMap, TextureError> {
             name: "lambda_short",
             value: p.lambda_short,
             requirement: "< lambda_long",
+        });
+    }
+    // A 1e300 m Sq overflowed nothing here but every solve after it: no
+    // surface texture is a metre rough.
+    if p.rms > MAX_SYNTH_RMS {
+        return Err(TextureError::InvalidParameter {
+            name: "rms",
+            value: p.rms,
+            requirement: "at most 1 m: the Sq of a surface texture",
+        });
+    }
+    // With the roll-off below the grid's shortest wavelength every
+    // wavenumber lies on the plateau: white noise, not the self-affine
+    // spectrum that was asked for.
+    if p.lambda_long < 2.0 * p.dx.max(p.dy) {
+        return Err(TextureError::InvalidParameter {
+            name: "lambda_long",
+            value: p.lambda_long,
+            requirement: "at least two grid spacings, the shortest wavelength the grid holds",
         });
     }
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);

@@ -84,6 +84,58 @@ fn third_octave_level_of_a_sine_at_a_band_centre() {
     }
 }
 
+/// Regression (adversarial run, 2026-11-29): `texture synth --rms 1e300`
+/// and a roll-off wavelength below the grid (white noise under a
+/// self-affine name) were accepted. Both are refused by name; the limits
+/// themselves pass.
+#[test]
+fn a_self_affine_surface_no_grid_or_road_can_hold_is_refused_by_name() {
+    let p = SelfAffine {
+        nx: 64,
+        ny: 64,
+        dx: 0.25e-3,
+        dy: 0.5e-3,
+        rms: 0.8e-3,
+        hurst: 0.8,
+        lambda_long: 8e-3,
+        lambda_short: 0.2e-3,
+        seed: 7,
+    };
+    let refused = |q: SelfAffine| self_affine(&q).unwrap_err().to_string();
+    let e = refused(SelfAffine {
+        rms: 1e300,
+        ..p.clone()
+    });
+    assert!(
+        e.contains("invalid rms: 1e300") && e.contains("at most 1 m"),
+        "{e}"
+    );
+    let e = refused(SelfAffine {
+        lambda_long: 0.9e-3,
+        lambda_short: 0.1e-3,
+        ..p.clone()
+    });
+    assert!(
+        e.contains("invalid lambda_long: 0.0009") && e.contains("two grid spacings"),
+        "{e}"
+    );
+    assert!(
+        self_affine(&SelfAffine {
+            rms: 1.0,
+            ..p.clone()
+        })
+        .is_ok()
+    );
+    assert!(
+        self_affine(&SelfAffine {
+            lambda_long: 1e-3,
+            lambda_short: 0.1e-3,
+            ..p
+        })
+        .is_ok()
+    );
+}
+
 #[test]
 fn self_affine_rms_slope_and_reproducibility() {
     let p = SelfAffine {
