@@ -104,10 +104,11 @@ pub struct FilmArgs {
     /// Grey threshold (0–1) instead of half-way to the calibration floor.
     #[arg(long)]
     pub threshold: Option<f64>,
-    /// Scanner white reference (normalised grey of D = 0).
+    /// Scanner white reference (normalised grey of D = 0), in (0, 1].
     #[arg(long, default_value_t = 1.0)]
     pub white: f64,
-    /// Scanner black reference (normalised grey of no reflected light).
+    /// Scanner black reference (normalised grey of no reflected light), in
+    /// [0, 1) and below --white.
     #[arg(long, default_value_t = 0.0)]
     pub black: f64,
     /// Output directory.
@@ -139,7 +140,12 @@ fn load_calibration(spec: &str) -> Result<film::Calibration> {
 pub fn run(args: &FilmArgs) -> Result<()> {
     let estimator = parse_estimator(&args.estimator)?;
     let calibration = load_calibration(&args.calibration)?;
-    let scanner = film::Scanner::new(args.white, args.black)?;
+    let scanner = film::Scanner::new(args.white, args.black).with_context(|| {
+        format!(
+            "scanner references --white {} --black {}",
+            args.white, args.black
+        )
+    })?;
     let response = film::FilmResponse::new(calibration, scanner);
     let mut scan = film::Scan::open(&args.scan, film::Channel::Auto)?;
     if let Some(s) = args.pixel_size {

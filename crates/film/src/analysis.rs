@@ -414,6 +414,9 @@ pub fn analyse(
 ) -> Result<Detection> {
     let pixel_size = scan.pixel_size().ok_or(FilmError::PixelSizeUnknown)?;
     check_positive("fit fraction", options.fit_fraction)?;
+    // The fields are public: a scanner written field by field skips
+    // `Scanner::new`, and a bad reference would surface as a grey floor.
+    response.scanner.check()?;
     let (w, h) = (scan.width(), scan.height());
     let grey = scan.grey();
     let levels = if scan.bit_depth() == 8 { 256 } else { 1024 };

@@ -586,16 +586,41 @@ impl Default for Scanner {
 }
 
 impl Scanner {
-    /// A scanner relation; `white` must exceed `black`.
+    /// A scanner relation: `white` in `(0, 1]`, `black` in `[0, 1)`,
+    /// `white > black`.
     pub fn new(white: f64, black: f64) -> Result<Self> {
-        if !(white.is_finite() && black.is_finite() && white > black) {
+        let s = Self { white, black };
+        s.check()?;
+        Ok(s)
+    }
+
+    /// Both references are grey levels of the scan, normalised to
+    /// `[0, 1]`: a white of 2 puts every calibrated grey above any pixel,
+    /// and the analysis would fail far from the value at fault.
+    pub(crate) fn check(&self) -> Result<()> {
+        let (white, black) = (self.white, self.black);
+        if !(white > 0.0 && white <= 1.0) {
             return Err(FilmError::InvalidParameter {
                 name: "scanner white reference",
                 value: white,
-                requirement: "finite and above the black reference",
+                requirement: "a normalised grey level in (0, 1]",
             });
         }
-        Ok(Self { white, black })
+        if !(0.0..1.0).contains(&black) {
+            return Err(FilmError::InvalidParameter {
+                name: "scanner black reference",
+                value: black,
+                requirement: "a normalised grey level in [0, 1)",
+            });
+        }
+        if white <= black {
+            return Err(FilmError::InvalidParameter {
+                name: "scanner white reference",
+                value: white,
+                requirement: "above the black reference",
+            });
+        }
+        Ok(())
     }
 
     /// Density of grey level `g`: `−log10((g − black)/(white − black))`;

@@ -180,6 +180,8 @@ pub fn render(map: &Field, response: &FilmResponse, options: &RenderOptions) -> 
     let (nx, ny) = (grid.nx(), grid.ny());
     check_non_negative("grain sigma", options.grain_sigma)?;
     check_non_negative("blur sigma", options.blur_sigma_px)?;
+    options.scanner.check()?;
+    response.scanner.check()?;
     if !options.background_density.is_finite() {
         return Err(FilmError::InvalidParameter {
             name: "background density",

@@ -165,3 +165,52 @@ fn scanner_density_relation() -> Result<()> {
     assert!(Scanner::new(0.1, 0.2).is_err());
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-29): `--white 2` was taken, and
+/// the analysis then failed on a "grey floor of the calibration" of 1.32,
+/// a grey no scan holds, without naming the white reference.
+#[test]
+fn a_white_level_above_one_is_refused_by_name() -> Result<()> {
+    let refused = |white, black| {
+        Scanner::new(white, black)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    let e = refused(2.0, 0.0);
+    assert!(
+        e.contains("scanner white reference: 2 ") && e.contains("(0, 1]"),
+        "{e}"
+    );
+    let e = refused(0.0, 0.0);
+    assert!(e.contains("scanner white reference: 0 "), "{e}");
+    let e = refused(0.9, -0.1);
+    assert!(
+        e.contains("scanner black reference: -0.1 ") && e.contains("[0, 1)"),
+        "{e}"
+    );
+    let e = refused(0.5, 0.6);
+    assert!(
+        e.contains("scanner white reference: 0.5 ") && e.contains("above the black reference"),
+        "{e}"
+    );
+    let e = refused(f64::NAN, 0.0);
+    assert!(e.contains("scanner white reference: NaN"), "{e}");
+    assert!(Scanner::new(1.0, 0.0).is_ok() && Scanner::new(0.9, 0.05).is_ok());
+    // A scanner written field by field reaches the analysis unchecked: it
+    // is refused there by the same name, not as a grey floor.
+    let film = FilmResponse::new(
+        Calibration::llw(LlwCurve::B)?,
+        Scanner {
+            white: 2.0,
+            black: 0.0,
+        },
+    );
+    let scan = Scan::from_grey(50, 50, vec![0.8; 2500], Some(1e-4), 16)?;
+    let e = analyse(&scan, &film, &AnalysisOptions::default())
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(e.contains("scanner white reference: 2 "), "{e}");
+    Ok(())
+}
