@@ -94,7 +94,8 @@ pub struct FilmArgs {
     #[arg(long)]
     pub pixel_size: Option<f64>,
     /// Film origin in the scan as `COL,ROW` pixels (continuous, from the
-    /// top-left corner); default: estimated from the prints' centroid.
+    /// top-left corner); default: estimated from the prints' centroid
+    /// (a one-indenter layout on a scan of several prints needs it given).
     #[arg(long)]
     pub origin: Option<String>,
     /// Force and radius estimator: `mean-grey` (the paper's), `pixel-mean`

@@ -102,6 +102,21 @@ pub enum FilmError {
         /// size, than the layout's indenters.
         scale_hint: String,
     },
+    /// A one-indenter layout, the film origin estimated from the prints, on
+    /// a scan of several prints: nothing tells which print is the
+    /// indenter's.
+    #[error(
+        "the layout's single indenter {indenter} matches any of the {prints} prints of the \
+         scan equally (with the film origin estimated from the prints, one indenter cannot \
+         tell which is its print): give the film origin (--origin COL,ROW) or a layout with \
+         more indenters"
+    )]
+    AmbiguousMatch {
+        /// The layout's indenter.
+        indenter: u32,
+        /// Number of prints in the scan.
+        prints: usize,
+    },
     /// The layout does not fit the prints (or the model rows).
     #[error("layout mismatch: {0}")]
     LayoutMismatch(String),

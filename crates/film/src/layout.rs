@@ -224,7 +224,9 @@ pub enum Origin {
         row: f64,
     },
     /// Estimated: the centroid of the prints is put on the centroid of the
-    /// layout, then refined on the matched prints.
+    /// layout, then refined on the matched prints. A one-indenter layout
+    /// has no geometry to place: on a scan of several prints it needs the
+    /// origin given.
     Centroid,
 }
 
@@ -256,7 +258,8 @@ pub struct Matching {
 /// `tolerance` (m; default 0.4 × the layout's smallest spacing). Errors:
 /// [`FilmError::PrintNotFound`] when an indenter has no print near it,
 /// [`FilmError::LayoutMismatch`] when two indenters claim the same print or
-/// there are fewer prints than indenters.
+/// there are fewer prints than indenters, [`FilmError::AmbiguousMatch`] for
+/// a one-indenter layout on several prints with [`Origin::Centroid`].
 pub fn match_layout(
     detection: &Detection,
     layout: &Layout,
@@ -273,6 +276,16 @@ pub fn match_layout(
         });
     }
     let ind = layout.indenters();
+    // One indenter fixes no geometry: put on the prints' centroid, it
+    // would take whichever print lies nearest it, a coin toss between two.
+    if let ([only], Origin::Centroid) = (ind, origin)
+        && detection.prints.len() > 1
+    {
+        return Err(FilmError::AmbiguousMatch {
+            indenter: only.number,
+            prints: detection.prints.len(),
+        });
+    }
     if detection.prints.len() < ind.len() {
         return Err(FilmError::LayoutMismatch(format!(
             "{} indenters in the layout but only {} prints in the scan",

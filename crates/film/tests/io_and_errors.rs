@@ -321,6 +321,53 @@ fn layout_problems_are_errors() -> Result<()> {
     Ok(())
 }
 
+/// Regression (adversarial run, 2026-11-29): a one-indenter layout on a
+/// scan of several equal prints, the origin estimated from the prints, was
+/// matched to whichever print lay nearest their centroid, without a word.
+#[test]
+fn a_one_indenter_layout_on_several_prints_is_refused_as_ambiguous() -> Result<()> {
+    let (det, film) = synthetic_25()?;
+    let one = Layout::new(vec![Indenter {
+        number: 13,
+        x: 0.0,
+        y: 0.0,
+    }])?;
+    let e = match_layout(&det, &one, Origin::Centroid, None).err();
+    let msg = e.as_ref().map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        msg.contains("single indenter 13 matches any of the 25 prints") && msg.contains("--origin"),
+        "{msg}"
+    );
+    // Given the origin, the indenter is placed: the centre print.
+    let origin = Origin::Pixel {
+        col: 0.025 / 60e-6,
+        row: 0.025 / 60e-6,
+    };
+    let m = match_layout(&det, &one, origin, None)?;
+    assert!(m.matches[0].distance < 60e-6, "{:?}", m.matches);
+    assert_eq!(m.unmatched_prints.len(), 24);
+    // One print for one indenter needs no origin.
+    let ball = HertzPrint {
+        x: 0.0,
+        y: 0.0,
+        force: 16.0,
+        radius: 1.9e-3,
+    };
+    let scan = render(
+        &hertz_pressure_map(&[ball], 200, 200, 25e-6)?,
+        &film,
+        &RenderOptions::default(),
+    )?;
+    let single = analyse(&scan, &film, &AnalysisOptions::default())?;
+    assert_eq!(
+        match_layout(&single, &one, Origin::Centroid, None)?
+            .matches
+            .len(),
+        1
+    );
+    Ok(())
+}
+
 #[test]
 fn annotated_image_marks_prints() -> Result<()> {
     let (det, _) = synthetic_25()?;
