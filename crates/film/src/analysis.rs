@@ -56,6 +56,18 @@ pub enum Estimator {
     HertzFit,
 }
 
+impl Estimator {
+    /// The estimator's name on the command line (`mean-grey`, `pixel-mean`,
+    /// `hertz-fit`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::MeanGrey => "mean-grey",
+            Self::PixelMean => "pixel-mean",
+            Self::HertzFit => "hertz-fit",
+        }
+    }
+}
+
 /// Options of [`analyse`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AnalysisOptions {
@@ -207,6 +219,9 @@ pub struct Detection {
     pub threshold_grey: f64,
     /// Background grey: median grey of the unreacted pixels.
     pub background_grey: f64,
+    /// The calibration's pressures `(lowest, highest)`, Pa: a pixel beyond
+    /// them is below range or saturated.
+    pub pressure_range: (f64, f64),
     /// Prints, in label order (top to bottom, then left to right, of their
     /// first pixel).
     pub prints: Vec<Print>,
@@ -628,6 +643,7 @@ pub fn analyse(
         pixel_size,
         threshold_grey: threshold,
         background_grey,
+        pressure_range: (p_lo, p_hi),
         prints,
         labels,
     })

@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use crate::analysis::{Detection, Estimator};
-use crate::error::{FilmError, Result};
+use crate::analysis::{Detection, Estimator, Print};
+use crate::calibration::Calibrated;
+use crate::error::{FilmError, Result, percent};
 use crate::layout::{Indenter, Layout, Matching};
 
 /// The exact header of a model CSV.
@@ -256,8 +257,10 @@ pub fn compare(
 }
 
 /// The measured `(indenter, force, radius)` of matched prints by
-/// `estimator`; an error names a print whose force or radius cannot be
-/// estimated (e.g. its mean grey is outside the calibrated range).
+/// `estimator`. A print it cannot measure is
+/// [`FilmError::SaturatedPrint`] when saturation is why (its mean grey
+/// beyond the calibration's top, or no Hertz fit around a saturated core),
+/// else [`FilmError::PrintNotMeasured`] (too faint, no Hertz fit).
 pub fn measurements(
     detection: &Detection,
     matching: &Matching,
@@ -270,14 +273,59 @@ pub fn measurements(
             let p = &detection.prints[m.print];
             match (p.force(estimator), p.radius(estimator)) {
                 (Some(f), Some(a)) => Ok((m.indenter.number, f, a)),
-                _ => Err(FilmError::LayoutMismatch(format!(
-                    "print of indenter {} cannot be measured with {estimator:?} \
-                     (mean-grey pressure {:?}, Hertz fit {})",
-                    m.indenter.number,
-                    p.pressure_of_mean_grey,
-                    if p.hertz.is_some() { "ok" } else { "failed" }
-                ))),
+                _ => Err(unmeasured(detection, p, m.indenter.number, estimator)),
             }
         })
         .collect()
+}
+
+/// Why `estimator` cannot measure print `p`: saturation first, since a
+/// saturated print is a film pressed beyond its range, not a bad layout or
+/// a bad profile.
+fn unmeasured(detection: &Detection, p: &Print, indenter: u32, estimator: Estimator) -> FilmError {
+    let (bottom, top) = detection.pressure_range;
+    let saturated = match estimator {
+        Estimator::MeanGrey => p.pressure_of_mean_grey == Calibrated::Saturated,
+        Estimator::HertzFit | Estimator::PixelMean => p.saturated_pixels > 0,
+    };
+    if saturated {
+        return FilmError::SaturatedPrint {
+            indenter,
+            estimator,
+            saturated: p.saturated_pixels,
+            pixels: p.pixel_count,
+            top_pa: top,
+        };
+    }
+    let below = format!(
+        "{} of its {} pixels ({:.1} %)",
+        p.below_range_pixels,
+        p.pixel_count,
+        percent(p.below_range_pixels, p.pixel_count)
+    );
+    // A mean-grey failure that is no saturation is a mean grey below range.
+    let reason = match estimator {
+        Estimator::MeanGrey => format!(
+            "its mean grey {:.4} reads below the calibration's bottom, {bottom:.3e} Pa, as do \
+             {below}: too faint a print to read",
+            p.mean_grey
+        ),
+        _ if p.below_range_pixels == p.pixel_count => format!(
+            "all {} of its pixels read below the calibration's bottom, {bottom:.3e} Pa: too \
+             faint a print to read",
+            p.pixel_count
+        ),
+        _ if p.below_range_pixels > 0 => format!(
+            "{below} read below the calibration's bottom, {bottom:.3e} Pa, and the others are \
+             too few for a Hertz fit or follow no Hertz profile (flat-topped or conical?)"
+        ),
+        _ => "its calibrated pixels are too few for a Hertz fit or follow no Hertz profile \
+              (flat-topped or conical?)"
+            .into(),
+    };
+    FilmError::PrintNotMeasured {
+        indenter,
+        estimator,
+        reason,
+    }
 }

@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use crate::analysis::Estimator;
+
 /// What can go wrong in film post-processing. Every variant names the problem;
 /// user input never panics.
 #[derive(Debug, thiserror::Error)]
@@ -117,9 +119,67 @@ pub enum FilmError {
         /// Number of prints in the scan.
         prints: usize,
     },
+    /// A matched print read above the calibration's top where the estimator
+    /// needs a pressure: its mean grey (mean-grey), or so much of it that
+    /// the Hertz fit finds too little in range around the saturated core.
+    #[error(
+        "print of indenter {indenter} is saturated: {saturated} of its {pixels} pixels \
+         ({:.1} %) read above the calibration's top, {top_pa:.3e} Pa; {}",
+        percent(*.saturated, *.pixels),
+        saturated_hint(*.estimator)
+    )]
+    SaturatedPrint {
+        /// Indenter number.
+        indenter: u32,
+        /// The estimator that cannot measure it.
+        estimator: Estimator,
+        /// Saturated pixels of the print.
+        saturated: usize,
+        /// Pixels of the print.
+        pixels: usize,
+        /// The calibration's highest pressure, Pa.
+        top_pa: f64,
+    },
+    /// A matched print the estimator cannot measure for another reason than
+    /// saturation: too faint for the calibration, or no Hertz fit.
+    #[error("print of indenter {indenter} cannot be measured with {}: {reason}", .estimator.name())]
+    PrintNotMeasured {
+        /// Indenter number.
+        indenter: u32,
+        /// The estimator that cannot measure it.
+        estimator: Estimator,
+        /// Why.
+        reason: String,
+    },
     /// The layout does not fit the prints (or the model rows).
     #[error("layout mismatch: {0}")]
     LayoutMismatch(String),
+}
+
+/// `100 · part / whole`, 0 for an empty whole.
+pub(crate) fn percent(part: usize, whole: usize) -> f64 {
+    if whole == 0 {
+        0.0
+    } else {
+        100.0 * part as f64 / whole as f64
+    }
+}
+
+/// What else a saturated print allows: the user's next step depends on
+/// the estimator that gave up.
+fn saturated_hint(estimator: Estimator) -> &'static str {
+    match estimator {
+        Estimator::MeanGrey => {
+            "its mean grey reads beyond that top, so mean-grey finds no pressure: hertz-fit \
+             reads through a saturated centre with a rim in range, pixel-mean gives a lower \
+             bound, or use a film of a higher range"
+        }
+        Estimator::HertzFit => {
+            "around the saturated core too little of it is in range for hertz-fit (or it is no \
+             Hertz profile): pixel-mean gives a lower bound, or use a film of a higher range"
+        }
+        Estimator::PixelMean => "pixel-mean reads it as a lower bound",
+    }
 }
 
 /// Shorthand for results of this crate.

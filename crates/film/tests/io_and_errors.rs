@@ -368,6 +368,75 @@ fn a_one_indenter_layout_on_several_prints_is_refused_as_ambiguous() -> Result<(
     Ok(())
 }
 
+/// A `width` × `height` scan of 25 µm pixels: unreacted film (grey 0.83,
+/// density 0.08) with a disc of radius 20 px and grey `disc` at its centre.
+fn disc_scan(disc: f32) -> Result<Scan> {
+    let (w, h) = (100usize, 100usize);
+    let grey = (0..w * h)
+        .map(|k| {
+            let (c, r) = ((k % w) as f64 + 0.5, (k / w) as f64 + 0.5);
+            if (c - 50.0).hypot(r - 50.0) < 20.0 {
+                disc
+            } else {
+                0.83
+            }
+        })
+        .collect();
+    Scan::from_grey(w, h, grey, Some(25e-6), 16)
+}
+
+/// Regression (adversarial run, 2026-11-29): a print darker than the
+/// calibration's top (a film pressed beyond its range) was refused as a
+/// "layout mismatch", which sends the user to the layout file.
+#[test]
+fn a_saturated_print_is_reported_as_saturated_not_as_a_layout_mismatch() -> Result<()> {
+    let film = FilmResponse::new(Calibration::llw(LlwCurve::B)?, Scanner::default());
+    let one = Layout::new(vec![Indenter {
+        number: 1,
+        x: 0.0,
+        y: 0.0,
+    }])?;
+    // Grey 0.05 is density 1.30, beyond curve B's top (1.22 at 2.458 MPa).
+    let det = analyse(&disc_scan(0.05)?, &film, &AnalysisOptions::default())?;
+    let n = det.prints[0].pixel_count;
+    assert_eq!(det.prints[0].saturated_pixels, n);
+    let m = match_layout(&det, &one, Origin::Centroid, None)?;
+    for estimator in [Estimator::MeanGrey, Estimator::HertzFit] {
+        let e = measurements(&det, &m, estimator).err();
+        let msg = e.as_ref().map(|e| e.to_string()).unwrap_or_default();
+        assert!(
+            matches!(e, Some(FilmError::SaturatedPrint { indenter: 1, .. })),
+            "{msg}"
+        );
+        assert!(
+            msg.contains(&format!("{n} of its {n} pixels (100.0 %)"))
+                && msg.contains("above the calibration's top, 2.458e6 Pa")
+                && !msg.contains("layout"),
+            "{msg}"
+        );
+    }
+    // The pixel mean still reads it, as a lower bound.
+    assert!(measurements(&det, &m, Estimator::PixelMean).is_ok());
+    // A print too faint for the calibration (grey 0.70: density 0.155,
+    // below curve B's floor 0.179) is said to be below its range.
+    let det = analyse(&disc_scan(0.70)?, &film, &AnalysisOptions::default())?;
+    assert_eq!(det.prints[0].below_range_pixels, det.prints[0].pixel_count);
+    let m = match_layout(&det, &one, Origin::Centroid, None)?;
+    for estimator in [Estimator::MeanGrey, Estimator::HertzFit] {
+        let e = measurements(&det, &m, estimator).err();
+        let msg = e.as_ref().map(|e| e.to_string()).unwrap_or_default();
+        assert!(
+            matches!(e, Some(FilmError::PrintNotMeasured { indenter: 1, .. })),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("below the calibration's bottom, 4.859e5 Pa") && !msg.contains("layout"),
+            "{msg}"
+        );
+    }
+    Ok(())
+}
+
 #[test]
 fn annotated_image_marks_prints() -> Result<()> {
     let (det, _) = synthetic_25()?;
