@@ -80,7 +80,18 @@ pub(super) fn write_table(file: &Path, key: u64, t: &CalibratedTable) -> Result<
         source,
     };
     if let Some(dir) = file.parent() {
-        std::fs::create_dir_all(dir).map_err(io)?;
+        // Name the folder, not the table's file, when the folder is at fault.
+        let folder = |source| FidelityError::Cache {
+            path: dir.to_path_buf(),
+            source,
+        };
+        if dir.exists() && !dir.is_dir() {
+            return Err(folder(std::io::Error::new(
+                std::io::ErrorKind::AlreadyExists,
+                "it is a file, not a folder: the tables are kept in a folder there",
+            )));
+        }
+        std::fs::create_dir_all(dir).map_err(folder)?;
     }
     let bytes = match t.field() {
         Some(field) => encode(t, field, key),
@@ -355,6 +366,28 @@ mod tests {
         let with = calibrator(dir.path(), true);
         assert!(with.law(&cap(), DEPTH).unwrap().table().field().is_some());
         assert_eq!(with.counts().disk_hits, 1);
+    }
+
+    /// Regression (adversarial run, 2026-11-29): a cache path that is a
+    /// file was reported under the first table's file name; the error now
+    /// names the folder and what is wrong with it.
+    #[test]
+    fn a_cache_folder_that_is_a_file_is_named_as_the_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = dir.path().join("calibration");
+        std::fs::write(&cache, "not a folder").unwrap();
+        let e = calibrator(&cache, false)
+            .law(&cap(), DEPTH)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "calibration cache {}: it is a file, not a folder: the tables are kept in a \
+                 folder there",
+                cache.display()
+            )
+        );
     }
 
     #[test]
