@@ -165,7 +165,9 @@ pub(crate) fn rolling_on_uncalibrated_road(
         if matches!(what, What::Road | What::Gathered(_))
             && let Some(road) = npy_window_road(scenario, options, material)?
         {
-            let summary = RoadSummary::Texture(Box::new(npy_summary(&road)));
+            let mut summary = npy_summary(&road);
+            summary.warn_of_footprint_off_map(&scenario.rolling_config()?);
+            let summary = RoadSummary::Texture(Box::new(summary));
             return match what {
                 What::Gathered(result) => {
                     let summits = npy_summits(&road)?;
@@ -328,6 +330,10 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
+    let mut summary = summary;
+    if let RoadSummary::Texture(t) = &mut summary {
+        t.warn_of_footprint_off_map(&scenario.rolling_config()?);
+    }
     if let What::Road = what {
         let summits = SummitSlices {
             positions: road.positions().to_vec(),

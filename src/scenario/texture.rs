@@ -54,6 +54,54 @@ pub struct TextureSummary {
     pub warnings: Vec<String>,
 }
 
+impl TextureSummary {
+    /// Warns when the tread's footprint, at some step of `config`'s path,
+    /// reaches off the map (x from 0 to the extent, y centred on the map's
+    /// mid-width, as a rolling road places it): no asperity lies there,
+    /// so the part off the map carries nothing and the load rests on the
+    /// rest, a footprint unlike the tyre's.
+    pub(crate) fn warn_of_footprint_off_map(&mut self, config: &tyreroad_rolling::RollingConfig) {
+        let (hx, hy) = config.tread.half_extents();
+        let (ex, ey) = self.extent;
+        let along = (
+            config.start.min(config.end) - hx,
+            config.start.max(config.end) + hx,
+        );
+        let across = (config.lateral - hy, config.lateral + hy);
+        // A sliver off the map is no matter (a 150 mm tyre on a 149.75 mm
+        // map: its edges carry next to nothing); a twentieth of the
+        // footprint, or two cells, is.
+        let (cx, cy) = self.spacing;
+        let (sx, sy) = ((0.1 * hx).max(2.0 * cx), (0.1 * hy).max(2.0 * cy));
+        if along.0 >= -sx
+            && along.1 <= ex + sx
+            && across.0 >= -0.5 * ey - sy
+            && across.1 <= 0.5 * ey + sy
+        {
+            return;
+        }
+        let mm = |v: f64| v * 1e3;
+        self.warnings.push(format!(
+            "the tread's footprint ({:.1} × {:.1} mm) reaches off the map ({:.1} × {:.1} mm) \
+             along the path: it covers x = {:.1} … {:.1} mm and y = {:.1} … {:.1} mm, the map \
+             x = 0 … {:.1} mm and y = {:.1} … {:.1} mm; no asperity lies off the map, so the \
+             load rests on the part that is on it (shorten the path, narrow the tread, or give \
+             a larger map)",
+            mm(2.0 * hx),
+            mm(2.0 * hy),
+            mm(ex),
+            mm(ey),
+            mm(along.0),
+            mm(along.1),
+            mm(across.0),
+            mm(across.1),
+            mm(ex),
+            mm(-0.5 * ey),
+            mm(0.5 * ey),
+        ));
+    }
+}
+
 /// What calibrating a texture's caps took: a static run's every cap, a
 /// rolling run's caps its path can select (`crate::fidelity::rolling`).
 #[derive(Clone, Debug, PartialEq)]

@@ -681,6 +681,13 @@ impl Sweep<'_> {
         summary: RoadSummary,
         coupling: Option<&dyn rolling::StepCoupling<L>>,
     ) -> Vec<Result<RollingRun, ScenarioError>> {
+        let mut summary = summary;
+        // A path the scenario cannot give fails in each case's run.
+        if let (RoadSummary::Texture(t), Ok(config)) =
+            (&mut summary, self.scenario.rolling_config())
+        {
+            t.warn_of_footprint_off_map(&config);
+        }
         self.cases
             .iter()
             .map(|case| {
