@@ -52,6 +52,9 @@ use crate::segment::{Asperity, Segmentation, UNLABELLED, fit_summit};
 /// within which its cells form its top.
 const TOP_DEPTH_PER_WIDTH: f64 = 1.0 / 64.0;
 
+/// The narrowest tile, in cells of the map.
+const SMALLEST_WIDTH_IN_CELLS: f64 = 4.0;
+
 /// A piece smaller than this fraction of a tile joins a neighbour.
 const SMALLEST_PIECE: f64 = 0.25;
 
@@ -59,8 +62,8 @@ const SMALLEST_PIECE: f64 = 0.25;
 /// along x or y into tiles (module doc).
 ///
 /// # Errors
-/// `max_width` not finite and positive, or a segmentation that is not of
-/// `map` (another size).
+/// `max_width` not finite and positive or below four cells of `map`, or a
+/// segmentation that is not of `map` (another size).
 pub fn split_wide_tops(
     seg: &Segmentation,
     map: &HeightMap,
@@ -74,6 +77,18 @@ pub fn split_wide_tops(
             seg.size().0,
             seg.size().1
         )));
+    }
+    // A top is the cells within max_width/64 of a basin's highest point:
+    // below a few cells that is the highest cell alone on any rounded top
+    // (nothing split), and a flat one falls into tiles of a cell or two,
+    // caps with no shape to tabulate.
+    if max_width < SMALLEST_WIDTH_IN_CELLS * map.dx().max(map.dy()) {
+        return Err(TextureError::InvalidParameter {
+            name: "max_cap_width",
+            value: max_width,
+            requirement: "at least four cells of the map: narrower tiles are a cell or two wide, \
+                          and a rounded top is never split",
+        });
     }
     // Each asperity, and whether it is a new piece (to be fitted).
     let mut pieces: Vec<(Asperity, bool)> = Vec::with_capacity(seg.asperities().len());

@@ -161,6 +161,17 @@ fn a_width_that_is_no_length_or_another_maps_segmentation_is_refused() {
         let e = split_wide_tops(&seg, &map, w).unwrap_err();
         assert!(e.to_string().contains("max_cap_width"), "{w}: {e}");
     }
+    // Regression (adversarial run, 2026-11-29): a width below a few cells
+    // was accepted and split nothing of a rounded top. Four cells is the
+    // least.
+    let e = split_wide_tops(&seg, &map, 3.9 * CELL)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("invalid max_cap_width") && e.contains("at least four cells"),
+        "{e}"
+    );
+    assert!(split_wide_tops(&seg, &map, 4.0 * CELL).is_ok());
     let other = balls();
     let small = HeightMap::from_fn(50, 50, CELL, CELL, |_, _| 0.0).unwrap();
     assert!(split_wide_tops(&segment(&other, &opts()).unwrap(), &small, 4e-3).is_err());
