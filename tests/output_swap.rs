@@ -183,6 +183,16 @@ fn a_folder_that_is_a_symbolic_link_lands_file_by_file_and_stays_a_link() {
     fs::create_dir_all(&real).unwrap();
     let link = parent.path().join("out");
     std::os::unix::fs::symlink(&real, &link).unwrap();
+    // Regression (adversarial run, 2026-11-29): such a folder was written
+    // file by file without a word; the set says so before it lands, and a
+    // plain folder does not.
+    let note = OutputSet::new(&link).unwrap().landing_note();
+    assert!(
+        note.as_deref()
+            .is_some_and(|n| n.contains("one file at a time") && n.contains("symbolic link")),
+        "{note:?}"
+    );
+    assert_eq!(OutputSet::new(&real).unwrap().landing_note(), None);
     run(&link, 1);
     run(&link, 2);
     assert!(fs::symlink_metadata(&link).unwrap().is_symlink());

@@ -137,6 +137,21 @@ impl OutputSet {
         &self.dir
     }
 
+    /// What a run should tell its user when this set will not land whole
+    /// ([`swap`]: the folder is a symbolic link, the working directory or
+    /// holds it, or its parent is not writable): each file lands whole,
+    /// the set one file at a time. `None` when it lands whole.
+    pub fn landing_note(&self) -> Option<String> {
+        (!swap::lands_whole(&self.dir)).then(|| {
+            format!(
+                "the outputs land in {} one file at a time (each file whole, not the set \
+                 together): the folder is a symbolic link or the working directory (or \
+                 holds it), or its parent is not writable",
+                self.dir.display()
+            )
+        })
+    }
+
     /// Where a writer that needs a path (a chart backend) puts file `name`;
     /// every file found in the staging directory at commit is moved in.
     pub fn staging_path(&mut self, name: &str) -> PathBuf {

@@ -186,6 +186,9 @@ fn run_scenario(path: &Path, out: &Path, strict: bool) -> Result<()> {
         // later steps depend on the failed one.
         ScenarioResult::History(r) => return history_cmd::report(&r, out),
     };
+    if let Some(note) = set.landing_note() {
+        say!("note: {note}");
+    }
     statics::print_written(&set.commit()?);
     fallbacks.finish(strict)
 }

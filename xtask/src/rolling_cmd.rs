@@ -217,6 +217,9 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
         );
     }
     write_end(run, &mut set)?;
+    if let Some(note) = set.landing_note() {
+        say!("note: {note}");
+    }
     set.commit()?;
     say!(
         "rolling: {} steps, fs = {:.1} Hz, written to {}",

@@ -71,6 +71,19 @@ fn swap_site(dir: &Path) -> Option<(PathBuf, PathBuf, String)> {
     Some((real, parent, name))
 }
 
+/// Whether a set committed to `dir` lands whole (swapped in) rather than
+/// file by file: `dir` can be swapped ([`swap_site`]) and a sibling can be
+/// made beside it (probed: one made and removed).
+pub fn lands_whole(dir: &Path) -> bool {
+    swap_site(dir).is_some_and(|(_, parent, name)| {
+        tempfile::Builder::new()
+            .prefix(&format!("{NEXT_PREFIX}{name}-"))
+            .rand_bytes(RANDOM_CHARS)
+            .tempdir_in(&parent)
+            .is_ok()
+    })
+}
+
 /// Whether `entry` is a sibling `prefix` + `name` + `-` + random characters.
 fn is_sibling(entry: &str, prefix: &str, name: &str) -> bool {
     entry
