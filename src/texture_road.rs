@@ -28,7 +28,7 @@
 use std::sync::Arc;
 
 use crate::asperity::{CapGeometry, TabulatedCap};
-use crate::contact_law::{C_SPHERE, ContactLaw, LawError, LocalRule, Material, PotentialLaw};
+use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
@@ -36,7 +36,10 @@ use crate::texture::{
 };
 use crate::two_scale::LocalShape;
 
+mod past_caps;
 pub mod window;
+
+pub use past_caps::{PastCap, PastCapTally, pressed_past_caps, rolling_past_caps_warning};
 
 /// The contact law of one texture asperity.
 pub type TextureLaw = PotentialLaw<Arc<TabulatedCap>>;
@@ -371,106 +374,6 @@ impl TextureRoad {
             .map(|law| law.geometry().max_depth())
             .collect()
     }
-}
-
-/// An asperity pressed deeper than its cap is tabulated
-/// ([`TextureRoad::cap_depths`]): its whole basin is in contact, and its
-/// law's force there is a vertical-wall extrapolation, not the road's
-/// shape (a spike on a flat map, pressed through to the flat, is one).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PastCap {
-    /// Asperity index (set order).
-    pub index: usize,
-    /// Its interpenetration `δ_i` (m).
-    pub depth: f64,
-    /// The depth its cap is tabulated to (m).
-    pub cap_depth: f64,
-}
-
-impl std::fmt::Display for PastCap {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "pressed {:.3} mm into a cap tabulated to {:.3} mm: its whole basin is in \
-             contact, and past that depth its law is an extrapolation (vertical walls), \
-             not the road's shape",
-            self.depth * 1e3,
-            self.cap_depth * 1e3
-        )
-    }
-}
-
-/// The asperities whose interpenetration `depths[i]` (m) exceeds the
-/// depth `cap_depths[i]` their caps are tabulated to (both in set order).
-pub fn pressed_past_caps(cap_depths: &[f64], depths: &[f64]) -> Vec<PastCap> {
-    cap_depths
-        .iter()
-        .zip(depths)
-        .enumerate()
-        .filter(|&(_, (&cap_depth, &depth))| depth > cap_depth * (1.0 + 1e-9))
-        .map(|(index, (&cap_depth, &depth))| PastCap {
-            index,
-            depth,
-            cap_depth,
-        })
-        .collect()
-}
-
-/// What a rolling run on a texture road's Wilke laws is told when some
-/// contacts were pressed past the depth their caps are tabulated to
-/// ([`TextureRoad::cap_depths`]; `None` when none were): the steps, the
-/// contacts over all steps, and the largest force over the law's force at
-/// its cap depth. A law is monotone in the depth, so a force above that is
-/// a depth below the cap.
-///
-/// `stiffening` bounds a contact's force over its law's at the same depth:
-/// 1 for an elastic tread of the laws' modulus; `E₀/E_ref` for a
-/// viscoelastic one (its force `(E_eff/E_ref) P(δ) + h` with `E_eff ≤ E₀`
-/// and the memory `h ≤ 0`, docs/viscoelastic.md), whose contacts above
-/// that bound are certainly past their caps and are counted "or more".
-pub fn rolling_past_caps_warning(
-    road: &crate::rolling::Road<TextureLaw>,
-    result: &crate::rolling::RollingResult,
-    stiffening: f64,
-) -> Option<String> {
-    let stiffening = stiffening.max(1.0);
-    // Each law's force at its cap depth, once, not per step and contact.
-    let at_caps: Vec<f64> = road
-        .laws()
-        .iter()
-        .map(|law| stiffening * law.force(law.geometry().max_depth()))
-        .collect();
-    let (mut steps, mut contacts, mut worst) = (0, 0, 0.0_f64);
-    for step in &result.steps {
-        let mut here = 0;
-        for (&id, &force) in step.contact_ids.iter().zip(&step.contact_forces) {
-            let Some(&at_cap) = road.local_id(id).and_then(|k| at_caps.get(k)) else {
-                continue;
-            };
-            if at_cap > 0.0 && force > at_cap * (1.0 + 1e-9) {
-                here += 1;
-                worst = worst.max(force / at_cap);
-            }
-        }
-        contacts += here;
-        steps += usize::from(here > 0);
-    }
-    let (or_more, there) = if stiffening > 1.0 {
-        (
-            " or more",
-            "the force the tread's instantaneous modulus gives there",
-        )
-    } else {
-        ("", "the force there")
-    };
-    (contacts > 0).then(|| {
-        format!(
-            "at {steps} step(s){or_more}, {contacts} contact(s){or_more} were pressed past the \
-             depth their caps are tabulated to (up to {worst:.2}× {there}): their whole basins \
-             were in contact, and past that depth their laws are an extrapolation (vertical \
-             walls), not the road's shape (a spike pressed through to a flat around it?)"
-        )
-    })
 }
 
 /// The larger of the summit's curvature radius `√(r₁r₂)` and the secant

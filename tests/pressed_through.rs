@@ -66,6 +66,19 @@ fn a_spike_pressed_to_the_flat_is_named_and_its_field_stops_on_the_floor() -> Te
     Ok(())
 }
 
+/// `spike.asc` in `dir`: 120 × 80 points at 0.25 mm, flat, one point
+/// raised 2 mm.
+fn write_spike_road(dir: &std::path::Path) -> TestResult {
+    let (nx, ny) = (120, 80);
+    let mut heights = vec![0.0; nx * ny];
+    heights[40 * nx + 60] = 2e-3;
+    write_ascii_grid(
+        &HeightMap::new(nx, ny, 2.5e-4, 2.5e-4, heights)?,
+        dir.join("spike.asc"),
+    )?;
+    Ok(())
+}
+
 /// The same through a rolling run on the Wilke laws: a tyre over a 2 mm
 /// spike on a flat map is told, step count and all, that the spike's law
 /// was pressed past its cap (the Wilke approach there is the law's
@@ -74,13 +87,7 @@ fn a_spike_pressed_to_the_flat_is_named_and_its_field_stops_on_the_floor() -> Te
 fn a_tyre_sinking_a_spike_into_the_flat_is_warned_of_it() -> TestResult {
     use tyreroad::scenario::RoadSummary;
     let dir = tempfile::tempdir()?;
-    let (nx, ny) = (120, 80);
-    let mut heights = vec![0.0; nx * ny];
-    heights[40 * nx + 60] = 2e-3;
-    write_ascii_grid(
-        &HeightMap::new(nx, ny, 2.5e-4, 2.5e-4, heights)?,
-        dir.path().join("spike.asc"),
-    )?;
+    write_spike_road(dir.path())?;
     let warnings = |load: &str, tread: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
         let text = format!(
             "name = \"spike\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
@@ -161,5 +168,56 @@ fn a_ball_pressed_past_its_equator_is_named() -> TestResult {
             "{w}"
         );
     }
+    Ok(())
+}
+
+/// The same spike rolled as an MPI run's rank 0 finishes it by default:
+/// the records streamed into the output files as they arrive, never held
+/// (`StepStream`). Regression (2026-11-30): such a run was not told; the
+/// stream now counts the contacts past their caps as they pass, and the
+/// finished run says what the whole run says.
+#[test]
+fn a_streamed_run_over_the_spike_is_warned_as_the_whole_run_is() -> TestResult {
+    use tyreroad::scenario::RoadSummary;
+    use tyreroad::scenario::output::OutputSet;
+    use tyreroad::scenario::output::steps_stream::StepStream;
+    let dir = tempfile::tempdir()?;
+    write_spike_road(dir.path())?;
+    let text = "name = \"spike\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [model]\nfidelity = \"wilke\"\n\
+                [rolling]\nstart = \"14 mm\"\nend = \"17 mm\"\nstep = \"1 mm\"\n\
+                speed = \"50 km/h\"\nmargin = \"0 mm\"\ncheckpoint = false\n\
+                [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
+                length = \"20 mm\"\nwidth = \"15 mm\"\n\
+                [rolling.control]\nload = \"200 N\"\n\
+                [texture]\nfile = \"spike.asc\"\nmin_prominence = \"0.1 mm\"\n\
+                min_area = \"0.01 mm2\"\n";
+    let s = Scenario::parse(text, "spike")?;
+    let options = RunOptions::new(dir.path());
+    let warned = |road: &RoadSummary| -> Vec<String> {
+        let RoadSummary::Texture(t) = road else {
+            return Vec::new();
+        };
+        t.warnings
+            .iter()
+            .filter(|w| w.contains("pressed past"))
+            .cloned()
+            .collect()
+    };
+    let ScenarioResult::Rolling(whole) = s.run(&options)? else {
+        return Err("not a rolling result".into());
+    };
+    let expected = warned(&whole.road);
+    assert_eq!(expected.len(), 1, "{expected:?}");
+    let mut set = OutputSet::new(dir.path().join("out"))?;
+    let mut stream = StepStream::new(&mut set, &[])?;
+    stream.count_past_caps(s.past_cap_tally(&options)?.ok_or("no tally")?);
+    let steps = s.rolling_steps()?;
+    s.roll_part_into(&options, 0..steps, 0, &mut |part| {
+        part.steps.iter().try_for_each(|step| stream.push(step))
+    })?;
+    let signals = stream.finish(&mut set, 0.0)?;
+    let streamed = s.finish_streamed(&options, signals, 0)?;
+    assert_eq!(warned(&streamed.road), expected);
     Ok(())
 }

@@ -75,6 +75,35 @@ impl Scenario {
         Ok(())
     }
 
+    /// A tally of the contacts pressed past their caps for a streamed run
+    /// ([`StepStream::count_past_caps`](super::output::steps_stream::StepStream::count_past_caps)),
+    /// when its road is a texture map read whole and rolled elastic on the
+    /// Wilke laws (the road whose records `rolling_past_caps_warning`
+    /// counts in a whole run); `None` otherwise: calibrated laws count
+    /// their own tables, a `.npy` road read by windows never holds its
+    /// laws whole, and a viscoelastic run is not streamed. The road is
+    /// built for it, once.
+    ///
+    /// # Errors
+    /// As the road's build in a run.
+    pub fn past_cap_tally(
+        &self,
+        options: &RunOptions<'_>,
+    ) -> Result<Option<crate::texture_road::PastCapTally>, ScenarioError> {
+        let Some(texture) = &self.texture else {
+            return Ok(None);
+        };
+        if self.rolling.is_none()
+            || self.material.viscoelastic.is_some()
+            || self.fidelity()? != crate::fidelity::Fidelity::Wilke
+            || super::rolling_npy::npy_file(texture, options).is_some()
+        {
+            return Ok(None);
+        }
+        let road = self.texture_rolling_road(&options.base_dir)?;
+        Ok(Some(crate::texture_road::PastCapTally::new(&road, 1.0)))
+    }
+
     /// The run made of the signals of records written elsewhere as they
     /// arrived (every step of the path, in order): the road summary and the
     /// spectra exactly as [`Scenario::finish_rolling`] gives them from the
@@ -99,9 +128,13 @@ impl Scenario {
                 signals.len()
             )));
         }
-        let Rolled::Road(road, summits) = rolling_on_road(self, spec, options, What::Road)? else {
+        let Rolled::Road(mut road, summits) = rolling_on_road(self, spec, options, What::Road)?
+        else {
             return Err(ScenarioError::Invalid("no road summary".into()));
         };
+        if let RoadSummary::Texture(t) = &mut road {
+            t.warnings.extend(signals.past_caps.clone());
+        }
         let spectra = spectra_of(
             &config,
             spec,

@@ -180,6 +180,9 @@ pub fn mpi_run(args: &MpiRunArgs) -> Result<()> {
             OutputSet::replacing(&args.out, "rolling").and_then(|mut set| {
                 let mut stream = StepStream::new(&mut set, &names)?;
                 stream.reserve(scenario.rolling_steps()?);
+                if let Some(tally) = scenario.past_cap_tally(&options)? {
+                    stream.count_past_caps(tally);
+                }
                 Ok((set, stream))
             }),
         );

@@ -28,6 +28,7 @@ use tyreroad_rolling::{StepRecord, StepStatus};
 
 use super::npz_stream::{Element, NpzStream, io, npz_error, write_f64s};
 use super::{OutputSet, ScenarioError, fmt};
+use crate::texture_road::PastCapTally;
 
 /// `time_signals.csv`'s row (its columns and number formats).
 #[derive(Serialize)]
@@ -127,6 +128,9 @@ pub struct StepSignals {
     pub most_overlapping: usize,
     /// The steps not converged, in path order.
     pub not_converged: Vec<NotConverged>,
+    /// What the run is told of contacts pressed past their caps, when the
+    /// stream counted them ([`StepStream::count_past_caps`]) and some were.
+    pub past_caps: Option<String>,
 }
 
 impl StepSignals {
@@ -205,6 +209,7 @@ pub struct StepStream {
     spill: Vec<(PathBuf, BufWriter<File>)>,
     nnz: usize,
     signals: StepSignals,
+    past_caps: Option<PastCapTally>,
 }
 
 fn csv_error(e: csv::Error) -> ScenarioError {
@@ -255,7 +260,16 @@ impl StepStream {
             spill,
             nnz: 0,
             signals: StepSignals::new(sensor_names.len()),
+            past_caps: None,
         })
+    }
+
+    /// Counts each record's contacts pressed past their caps on `tally`
+    /// (a texture road's Wilke laws, `Scenario::past_cap_tally`), for
+    /// [`StepSignals::past_caps`]: the records are not kept, so the count
+    /// is made as they pass.
+    pub fn count_past_caps(&mut self, tally: PastCapTally) {
+        self.past_caps = Some(tally);
     }
 
     /// Steps written so far.
@@ -326,6 +340,9 @@ impl StepStream {
             self.nnz += 1;
         }
         self.signals.push(s);
+        if let Some(tally) = &mut self.past_caps {
+            tally.count(s);
+        }
         Ok(())
     }
 
@@ -341,8 +358,10 @@ impl StepStream {
             sensors,
             spill,
             nnz,
-            signals,
+            mut signals,
+            past_caps,
         } = self;
+        signals.past_caps = past_caps.and_then(|t| t.warning());
         if signals.is_empty() {
             return Err(ScenarioError::Encode {
                 what: "CSV".into(),
