@@ -72,7 +72,8 @@ fn swap_site(dir: &Path) -> Option<(PathBuf, PathBuf, String)> {
 }
 
 /// Whether a set committed to `dir` lands whole (swapped in) rather than
-/// file by file: `dir` can be swapped ([`swap_site`]) and a sibling can be
+/// file by file: `dir` can be swapped (not a symbolic link, not the working
+/// directory nor holding it) and a sibling can be
 /// made beside it (probed: one made and removed).
 pub fn lands_whole(dir: &Path) -> bool {
     swap_site(dir).is_some_and(|(_, parent, name)| {
