@@ -138,6 +138,21 @@ pub fn refined_texture_fields(
     factor: usize,
 ) -> Result<(Field, Field, Refinement), BemRollingError> {
     let map = texture.height_map(base_dir)?;
+    // Before anything is allocated: a factor of 100 on a 200 × 120 map
+    // asked for 2.4e8 points and some 5 GB before any refusal.
+    let (fx, fy) = (
+        map.nx().saturating_mul(factor),
+        map.ny().saturating_mul(factor),
+    );
+    if fx as f64 * fy as f64 > crate::scenario::MAX_MAP_POINTS {
+        return Err(BemRollingError::InvalidInput(format!(
+            "refinement factor {factor} makes the {} × {} map {fx} × {fy} points, more than \
+             the {:e} a map may hold: a smaller factor, or a shorter map",
+            map.nx(),
+            map.ny(),
+            crate::scenario::MAX_MAP_POINTS
+        )));
+    }
     let coarse = super::texture_field(&map)?;
     let Some(SynthSpec::Aggregate {
         nx,

@@ -147,3 +147,28 @@ fn refining_the_grid_brings_the_bem_closer_to_hertz_on_a_sphere() {
         assert!((s.total_force - LOAD).abs() < 1e-9, "{}", s.total_force);
     }
 }
+
+/// Regression (adversarial run, 2026-11-30): `rolling-bem --refine 100` on
+/// a 200 × 120 map asked for 2.4e8 points and grew to 5 GB before anything
+/// refused it. The factor is refused before the fine map is made, naming
+/// the grid it would make; a factor within the limit is made.
+#[test]
+fn a_refinement_past_the_largest_map_is_refused_before_allocating() {
+    let text = "name = \"r\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\n\
+                [texture.synth]\nkind = \"aggregate\"\ngrading = \"6/10\"\nnx = 200\nny = 120\n\
+                spacing = \"0.25 mm\"\nseed = 3\n";
+    let scenario = crate::scenario::Scenario::parse(text, "r").expect("scenario");
+    let texture = scenario.texture.as_ref().expect("a texture");
+    let e = super::refine::refined_texture_fields(texture, std::path::Path::new("."), 100)
+        .expect_err("too fine")
+        .to_string();
+    assert!(
+        e.contains("refinement factor 100 makes the 200 × 120 map 20000 × 12000 points"),
+        "{e}"
+    );
+    let (coarse, fine, _) =
+        super::refine::refined_texture_fields(texture, std::path::Path::new("."), 2)
+            .expect("twice as fine");
+    assert_eq!(fine.grid().nx(), 2 * coarse.grid().nx());
+}
