@@ -141,14 +141,28 @@ fn bad_input_is_a_named_error() {
             ..
         })
     ));
-    let few = CalibrationOptions { nodes: 2, ..o };
-    assert!(matches!(
-        calibrate(&p, 1e-4, &m, &few),
-        Err(FidelityError::InvalidInput {
-            key: "calibration nodes",
-            ..
-        })
-    ));
+    // Regression (adversarial run, 2026-11-30): a billion nodes ran on,
+    // and a tolerance of 10 gave NaN tables; both are refused by name.
+    for nodes in [2, 1_000_000_000] {
+        let bad = CalibrationOptions { nodes, ..o };
+        assert!(matches!(
+            calibrate(&p, 1e-4, &m, &bad),
+            Err(FidelityError::InvalidInput {
+                key: "calibration nodes",
+                ..
+            })
+        ));
+    }
+    for tolerance in [10.0, 0.0, f64::NAN] {
+        let bad = CalibrationOptions { tolerance, ..o };
+        assert!(matches!(
+            calibrate(&p, 1e-4, &m, &bad),
+            Err(FidelityError::InvalidInput {
+                key: "calibration tolerance",
+                ..
+            })
+        ));
+    }
 }
 
 #[test]

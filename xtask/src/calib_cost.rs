@@ -186,6 +186,12 @@ pub fn run(args: &CalibCostArgs) -> Result<()> {
             args.texture_cells
         );
     }
+    if let Some(kind) = &args.kind
+        && !KINDS.iter().any(|(label, _)| label == kind)
+    {
+        let known: Vec<&str> = KINDS.iter().map(|k| k.0).collect();
+        bail!("unknown --kind {kind:?} (known: {})", known.join(", "));
+    }
     let reference = CalibrationOptions::reference();
     let mut candidate = CalibrationOptions::default();
     if let Some(n) = args.nodes {

@@ -22,6 +22,12 @@ pub(super) enum Knot<'s> {
     },
 }
 
+/// Most depths a table is calibrated at.
+const MAX_NODES: usize = 1024;
+
+/// Loosest BEM tolerance a calibration accepts.
+const MAX_TOLERANCE: f64 = 0.1;
+
 /// The BEM solves of a table (module docs): checks the inputs, then hands
 /// each depth to `on_knot` in increasing order (the onset first when the
 /// summit stands above the top cell).
@@ -33,11 +39,20 @@ pub(super) fn sweep(
     mut on_knot: impl FnMut(Knot<'_>),
 ) -> Result<CalibrationStats, FidelityError> {
     patch.validate()?;
-    if options.nodes < 4 {
+    // Each node is a BEM solve: a billion of them was accepted and ran on.
+    if !(4..=MAX_NODES).contains(&options.nodes) {
         return Err(FidelityError::invalid(
             "calibration nodes",
             options.nodes,
-            ">= 4",
+            format!("4 to {MAX_NODES}"),
+        ));
+    }
+    // A tolerance of 10 "solved" every depth at once, into NaN tables.
+    if !(options.tolerance > 0.0 && options.tolerance <= MAX_TOLERANCE) {
+        return Err(FidelityError::invalid(
+            "calibration tolerance",
+            options.tolerance,
+            format!("in (0, {MAX_TOLERANCE}]: the BEM's relative residual"),
         ));
     }
     let offset = patch.summit_offset();
