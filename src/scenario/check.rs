@@ -345,7 +345,13 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
     }
     let c = &r.control;
     if let Some(w) = c.load {
-        in_range("[rolling.control] load", w.value(), LOAD_RANGE, false, "N")?;
+        in_range(
+            "[rolling.control] load",
+            w.value(),
+            [MIN_STATIC_LOAD, LOAD_RANGE[1]],
+            false,
+            "N",
+        )?;
     }
     if let Some(d) = c.approach {
         coordinate("[rolling.control] approach", d.value())?;

@@ -241,6 +241,14 @@ fn out_of_range_rolling_values_name_their_key() {
         "tread_height = \"-1 mm\"",
         "[rolling.control] tread_height",
     );
+    // Regression (adversarial run, 2026-11-30): a rolling load of 1e-300 N
+    // passed the open lower bound and failed every step.
+    refused(
+        ROLLING,
+        "load = \"1500 N\"",
+        "load = \"1e-300 N\"",
+        "[rolling.control] load",
+    );
     let wide = ROLLING.replacen("nx = 2000", "nx = 30000", 1);
     refused(&wide, "ny = 600", "ny = 30000", "[texture.synth] nx, ny");
     refused(

@@ -51,8 +51,8 @@ pub use history::{
     write_history_csv,
 };
 pub use ranges::{
-    MAX_MAP_POINTS, MODULUS_RANGE, THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name,
-    check_threads,
+    LOAD_RANGE, MAX_MAP_POINTS, MIN_STATIC_LOAD, MODULUS_RANGE, SPEED_RANGE,
+    THREAD_OVERSUBSCRIPTION, TOLERANCE_RANGE, check_name, check_threads,
 };
 pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;

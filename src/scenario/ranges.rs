@@ -14,9 +14,10 @@ use super::ScenarioError;
 pub const MODULUS_RANGE: [f64; 2] = [1e3, 1e12];
 /// Load range (N) of a static load or a rolling wheel load.
 pub const LOAD_RANGE: [f64; 2] = [0.0, 1e7];
-/// Smallest static load (N): a nanonewton. Below it a load is a unit gone
-/// wrong, not a contact (1e-300 N passed an open lower bound and failed in
-/// the solver, printed with 300 digits).
+/// Smallest static or rolling load (N): a nanonewton. Below it a load is a
+/// unit gone wrong, not a contact (1e-300 N passed an open lower bound and
+/// failed in the solver, printed with 300 digits; a rolling run failed
+/// every step).
 pub const MIN_STATIC_LOAD: f64 = 1e-9;
 /// Length range (m) of a positive geometric size (radius, spacing, step,
 /// tread size, road size).

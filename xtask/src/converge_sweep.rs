@@ -47,18 +47,30 @@ fn parse_loads(text: &str) -> Result<Vec<f64>> {
         }
         Ok(v)
     };
+    // A load within the range a scenario's `[rolling.control] load` takes.
+    let load = |s: &str| -> Result<f64> {
+        let v = number(s)?;
+        let (lo, hi) = (
+            tyreroad::scenario::MIN_STATIC_LOAD,
+            tyreroad::scenario::LOAD_RANGE[1],
+        );
+        if !(lo..=hi).contains(&v) {
+            bail!("--loads: {v:e} N (expected a load in [{lo:e}, {hi:e}] N)");
+        }
+        Ok(v)
+    };
     if let Some((range, step)) = text.split_once(':') {
         let (first, last) = range
             .split_once("..")
             .with_context(|| format!("--loads `{text}`: expected FIRST..LAST:STEP"))?;
-        let (first, last, step) = (number(first)?, number(last)?, number(step)?);
+        let (first, last, step) = (load(first)?, load(last)?, number(step)?);
         if last < first || (last - first) / step > 1e4 {
             bail!("--loads `{text}`: expected FIRST ≤ LAST and at most 10⁴ loads");
         }
         let n = ((last - first) / step + 1e-9).floor() as usize;
         return Ok((0..=n).map(|i| first + i as f64 * step).collect());
     }
-    text.split(',').map(number).collect()
+    text.split(',').map(load).collect()
 }
 
 /// `A,B,Cmm` (millimetres) → metres.
@@ -169,6 +181,10 @@ mod tests {
         assert!(parse_loads("3000..500:100").is_err());
         assert!(parse_loads("0..1e9:1e-3").is_err());
         assert!(parse_loads("x").is_err());
+        // Regression (adversarial run, 2026-11-30): 1e30 N "converged".
+        let e = parse_loads("1e30").expect_err("too heavy").to_string();
+        assert!(e.contains("expected a load in [1e-9, 1e7] N"), "{e}");
+        assert!(parse_loads("1..1e30:1e29").is_err());
         assert_eq!(
             parse_steps("0.25,0.5,1,2mm")?,
             vec![0.25e-3, 0.5e-3, 1e-3, 2e-3]

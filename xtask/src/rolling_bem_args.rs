@@ -40,8 +40,9 @@ pub struct RollingBemArgs {
     /// moduli instead of the multipoint comparison.
     #[arg(long)]
     pub viscoelastic: Option<String>,
-    /// Driving speed (m/s), instead of the scenario's.
-    #[arg(long)]
+    /// Driving speed (m/s), instead of the scenario's (within the range
+    /// `[rolling] speed` accepts).
+    #[arg(long, value_parser = parse_speed)]
     pub speed: Option<f64>,
     /// Leave out the scenario's `[material.viscoelastic]`: compare the
     /// elastic runs with its `[material]` (the model's own error on the
@@ -122,6 +123,16 @@ fn parse_tolerance(text: &str) -> Result<f64, String> {
     }
 }
 
+/// `--speed V`: m/s, the range of `[rolling] speed` (1e300 m/s was
+/// accepted, and gave a sample rate no band fits).
+fn parse_speed(text: &str) -> Result<f64, String> {
+    let [lo, hi] = tyreroad::scenario::SPEED_RANGE;
+    match text.trim().parse::<f64>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("`{text}`: expected a speed in [{lo:e}, {hi}] m/s")),
+    }
+}
+
 /// `--refine F`: a grid F times finer, F ≥ 2 (1 would compare the grid
 /// with itself, and print 0/0; a grid too large is the library's refusal).
 fn parse_refinement(text: &str) -> Result<usize, String> {
@@ -177,4 +188,23 @@ pub(crate) fn compared_step_rows(
             contact_area_bem_m2: b.contact_area,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (adversarial run, 2026-11-30): `--speed 1e300` and
+    /// `1e-9` were accepted; the range is `[rolling] speed`'s.
+    #[test]
+    fn a_speed_outside_the_scenarios_range_is_refused() {
+        assert_eq!(parse_speed("13.9"), Ok(13.9));
+        for bad in ["1e300", "1e-9", "0", "-5", "nan", "fast"] {
+            let e = parse_speed(bad).expect_err("refused");
+            assert!(
+                e.contains("expected a speed in [1e-3, 500] m/s"),
+                "{bad}: {e}"
+            );
+        }
+    }
 }
