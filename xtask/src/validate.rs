@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use tyreroad::asperity::Sphere;
 use tyreroad::contact_law::{C_HERTZ_EXACT, ContactLaw, HertzLaw, PotentialLaw};
 
@@ -41,7 +41,10 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         return crate::validate_textures::run(&args.textures, &args.out);
     }
     let (text, origin) = match &args.scenario {
-        Some(p) => (std::fs::read_to_string(p)?, p.display().to_string()),
+        Some(p) => (
+            std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?,
+            p.display().to_string(),
+        ),
         None => (
             PAPER_SCENARIO.to_string(),
             "embedded paper_25_spheres.toml".into(),

@@ -83,39 +83,39 @@ pub struct TextureArgs {
     #[arg(long)]
     pub textures: bool,
     /// With `--textures`: cells per side of each texture (0.1 mm cells).
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, requires = "textures")]
     pub texture_cells: usize,
     /// With `--textures`: only this road (its label, e.g. "chip seal").
-    #[arg(long)]
+    #[arg(long, requires = "textures")]
     pub kind: Option<String>,
     /// With `--textures`: skip the BEM resolution study.
-    #[arg(long)]
+    #[arg(long, requires = "textures")]
     pub no_resolution: bool,
     /// With `--textures`: also segment each road a second way
     /// (`min_prominence` doubled) and measure how far one rung's outputs
     /// move (docs/validation.md, "Segmentation invariance").
-    #[arg(long)]
+    #[arg(long, requires = "textures")]
     pub segmentation: bool,
     /// With `--segmentation`: the rung measured (any name of
     /// `fidelity::RUNGS`).
-    #[arg(long, default_value = "calibrated")]
+    #[arg(long, default_value = "calibrated", requires = "segmentation")]
     pub segmentation_rung: String,
     /// With `--textures`: only these rungs, comma-separated names (e.g.
     /// "calibrated,calibrated_fields"); every rung of `fidelity::RUNGS`
     /// when absent.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', requires = "textures")]
     pub rungs: Vec<String>,
     /// With `--textures`: passes of the block fields' two-scale rebuild
     /// that solve each cap again under its neighbours' displacement
     /// (docs/validation.md, "Caps rebuilt beside their neighbours"); 0
     /// rebuilds each cap alone (the tables measured before session 9).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, requires = "textures")]
     pub neighbour_passes: usize,
     /// With `--textures`: split each basin whose flat top is wider than this
     /// (mm) into tiles, one asperity each (`[texture] max_cap_width`,
     /// docs/texture.md "Wide tops split into tiles"); whole basins when
     /// absent.
-    #[arg(long)]
+    #[arg(long, requires = "textures")]
     pub max_cap_width: Option<f64>,
 }
 
