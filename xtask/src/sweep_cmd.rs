@@ -10,7 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use tyreroad::scenario::output::OutputSet;
 use tyreroad::scenario::{Par, RunOptions, ScenarioResult};
@@ -48,7 +48,8 @@ fn run_one(run: &SweepRun, base_dir: &Path, out: &Path) -> SweepRow {
         let ScenarioResult::Rolling(rolled) = scenario.run(&options)? else {
             anyhow::bail!("the scenario has no [rolling] section");
         };
-        let mut set = OutputSet::new(out.join(format!("run_{:04}", run.index)))?;
+        // A manifest marks the folder as a sweep run's (`remove_stale_runs`).
+        let mut set = OutputSet::replacing(out.join(run_folder(run.index)), RUN_PRODUCER)?;
         write_outputs(&rolled, &mut set)?;
         set.commit()?;
         Ok(RunSummary::of(&rolled))
@@ -75,7 +76,54 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     write_table(&rows, &args.out)
 }
 
+/// The producer name of a sweep run's outputs: its folder's manifest.
+const RUN_PRODUCER: &str = "sweep-run";
+
+/// The folder of run `index` in the sweep's output folder.
+fn run_folder(index: usize) -> String {
+    format!("run_{index:04}")
+}
+
+/// Removes the run folders an earlier sweep left in `out` that this one
+/// did not write: those of runs that failed now, and those past its last
+/// run. Only folders a sweep marked as its own (their manifest) are
+/// removed; anything else in `out` stays. Without this, a sweep with
+/// fewer runs, or a run that failed, left an older sweep's outputs beside
+/// a `sweep.csv` that does not list them.
+fn remove_stale_runs(rows: &[SweepRow], out: &Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(());
+    };
+    let written: std::collections::HashSet<String> = rows
+        .iter()
+        .filter(|r| r.outcome.is_ok())
+        .map(|r| run_folder(r.index))
+        .collect();
+    let manifest = format!(
+        "{}{RUN_PRODUCER}",
+        tyreroad::scenario::output::MANIFEST_PREFIX
+    );
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_run = name.len() >= 8
+            && name.starts_with("run_")
+            && name[4..].bytes().all(|b| b.is_ascii_digit());
+        let path = entry.path();
+        if is_run
+            && !written.contains(&name)
+            && path.is_dir()
+            && !path.is_symlink()
+            && path.join(&manifest).is_file()
+        {
+            std::fs::remove_dir_all(&path)
+                .with_context(|| format!("removing an earlier sweep's {}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
 fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
+    remove_stale_runs(rows, out)?;
     let mut set = OutputSet::new(out)?;
     set.write("sweep.csv", table_csv(rows).as_bytes())?;
     set.commit()?;
@@ -236,6 +284,44 @@ mod tests {
         );
         let table = std::fs::read_to_string(out.join("sweep.csv"))?;
         assert!(table.contains("bad") && table.contains("worse"), "{table}");
+        std::fs::remove_dir_all(&out)?;
+        Ok(())
+    }
+
+    /// Regression (adversarial run, 2026-11-30): a sweep of fewer runs, or
+    /// with a run that failed, left an older sweep's run folders beside its
+    /// table (a failed row over the old run's outputs). The sweep's own
+    /// stale folders go; a folder it did not mark stays.
+    #[test]
+    fn an_earlier_sweeps_run_folders_that_this_one_did_not_write_are_removed() -> Result<()> {
+        let out = std::env::temp_dir().join(format!("tyreroad-sweep-stale-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let manifest = format!(
+            "{}{RUN_PRODUCER}",
+            tyreroad::scenario::output::MANIFEST_PREFIX
+        );
+        for index in 0..3 {
+            let dir = out.join(run_folder(index));
+            std::fs::create_dir_all(&dir)?;
+            std::fs::write(dir.join(&manifest), "time_signals.csv\n")?;
+            std::fs::write(dir.join("time_signals.csv"), "old")?;
+        }
+        let yours = out.join("run_0007");
+        std::fs::create_dir_all(&yours)?;
+        let summary = RunSummary {
+            steps: 4,
+            failed_steps: 0,
+            mean_force: 1.0,
+            level_of: "approach".into(),
+            overall_db: 0.0,
+            bands: Vec::new(),
+        };
+        let rows = [row(0, Ok(summary)), row(1, Err("diverged".into()))];
+        write_table(&rows, &out)?;
+        assert!(out.join("run_0000/time_signals.csv").is_file());
+        assert!(!out.join("run_0001").exists(), "a failed run's old outputs");
+        assert!(!out.join("run_0002").exists(), "past the last run");
+        assert!(yours.is_dir(), "not a sweep's: kept");
         std::fs::remove_dir_all(&out)?;
         Ok(())
     }
