@@ -403,6 +403,18 @@ fn write_end(run: &Ended<'_>, set: &mut OutputSet) -> Result<()> {
             points: band_points(l),
         });
     }
+    // No band at all is the sample rate's doing, not the forces': at 1 mm/s
+    // and 1 mm steps (fs = 1 Hz) no one-third-octave band fits, and the
+    // notes below said "nothing touched" of a run carrying its load.
+    if levels.is_empty() {
+        say!(
+            "note: no one-third-octave band fits this run's sample rate, fs = {:.3} Hz (speed \
+             / step): the band tables are empty and third_octave.svg/png is not drawn; roll \
+             faster or with shorter steps for spectra",
+            config.sample_rate()
+        );
+        return Ok(());
+    }
     // A band without power has no level (−∞ dB): its curve is left out, and
     // said so, rather than the whole chart failing for want of data.
     for s in series.iter().filter(|s| s.points.is_empty()) {
