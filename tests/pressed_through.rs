@@ -221,3 +221,41 @@ fn a_streamed_run_over_the_spike_is_warned_as_the_whole_run_is() -> TestResult {
     assert_eq!(warned(&streamed.road), expected);
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-30): balls on a rolling road pressed
+/// far past their equators (an approach of 17 mm on 2–5 mm balls) ended
+/// "every item converged" without a word, where a static run names them.
+/// A rolling run on `[[asperity]]` balls (and on a synthetic road's) now
+/// counts the contacts past their equators; a light load is not warned of.
+#[test]
+fn a_rolling_road_of_balls_pressed_past_their_equators_is_warned_of() -> TestResult {
+    use tyreroad::scenario::RoadSummary;
+    let run = |load: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"balls\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [default_shape]\nkind = \"sphere\"\nradius = \"1 mm\"\n\
+             [rolling]\nstart = \"20 mm\"\nend = \"23 mm\"\nstep = \"1 mm\"\n\
+             speed = \"50 km/h\"\nmargin = \"0 mm\"\ncheckpoint = false\n\
+             [rolling.tread]\nkind = \"block\"\nlength = \"60 mm\"\nwidth = \"20 mm\"\n\
+             [rolling.control]\nload = \"{load}\"\n\
+             [[asperity]]\nid = 1\nx = \"10 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nid = 2\nx = \"20 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nid = 3\nx = \"30 mm\"\ny = \"0 mm\"\n"
+        );
+        let s = Scenario::parse(&text, "balls")?;
+        let ScenarioResult::Rolling(run) = s.run(&RunOptions::new("."))? else {
+            return Err("not a rolling result".into());
+        };
+        assert!(matches!(run.road, RoadSummary::Asperities { count: 3, .. }));
+        Ok(run.road.warnings().to_vec())
+    };
+    // Hertz at δ = R = 1 mm: (4/3) E* √R R^1.5 = 11.6 N a ball.
+    let heavy = run("60 N")?;
+    assert!(
+        heavy.iter().any(|w| w
+            .starts_with("at 4 step(s), 12 contact(s) were pressed past their balls' equators")),
+        "{heavy:?}"
+    );
+    assert!(run("3 N")?.is_empty());
+    Ok(())
+}

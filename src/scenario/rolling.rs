@@ -13,7 +13,7 @@ use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::texture_road::{rolling_past_caps_warning, rolling_road};
+use crate::texture_road::{PastCapTally, PastShape, rolling_past_caps_warning, rolling_road};
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,12 +24,35 @@ pub enum RoadSummary {
     Asperities {
         /// Number of asperities.
         count: usize,
+        /// What looks wrong with the run on them (balls pressed past
+        /// their equators), for its report.
+        warnings: Vec<String>,
     },
     /// `[rolling.synthetic_road]`'s random spheres.
     Synthetic {
         /// Number of spherical summits.
         count: usize,
+        /// As [`RoadSummary::Asperities`]'s.
+        warnings: Vec<String>,
     },
+}
+
+impl RoadSummary {
+    /// What looks wrong with the road or the run on it, for its report.
+    pub fn warnings(&self) -> &[String] {
+        match self {
+            Self::Texture(t) => &t.warnings,
+            Self::Asperities { warnings, .. } | Self::Synthetic { warnings, .. } => warnings,
+        }
+    }
+
+    /// [`RoadSummary::warnings`], to add to.
+    pub(crate) fn warnings_mut(&mut self) -> &mut Vec<String> {
+        match self {
+            Self::Texture(t) => &mut t.warnings,
+            Self::Asperities { warnings, .. } | Self::Synthetic { warnings, .. } => warnings,
+        }
+    }
 }
 
 /// The one-third-octave spectra of a rolling run.
@@ -145,7 +168,10 @@ pub(crate) fn rolling_on_uncalibrated_road(
         if let What::Part { steps, warmup } = &what
             && let Some(road) = npy_window_road(scenario, options, material)?
         {
-            let summary = RoadSummary::Asperities { count: road.len() };
+            let summary = RoadSummary::Asperities {
+                count: road.len(),
+                warnings: Vec::new(),
+            };
             return gather_part(steps.len(), |sink| {
                 roll_part_on_windows(
                     scenario,
@@ -208,15 +234,33 @@ pub(crate) fn rolling_on_uncalibrated_road(
         (false, None) => {
             let set = scenario.asperity_set()?;
             let count = set.len();
-            run_on(
+            // Each ball's law force at its equator (no bound for other
+            // shapes), before the set moves into the road.
+            let equators: Vec<f64> = (0..count)
+                .map(|k| match scenario.shape_of(k) {
+                    Ok(super::ShapeSpec::Sphere { radius, .. }) => {
+                        set.laws()[k].force(radius.value())
+                    }
+                    _ => f64::NAN,
+                })
+                .collect();
+            let mut rolled = run_on(
                 scenario,
                 set,
-                RoadSummary::Asperities { count },
+                RoadSummary::Asperities {
+                    count,
+                    warnings: Vec::new(),
+                },
                 material,
                 spec,
                 options,
                 what,
-            )
+            )?;
+            if let Rolled::Run(run) = &mut rolled {
+                let tally = PastCapTally::from_bounds(equators, 1.0, PastShape::Equators);
+                warn_of_past_bounds(tally, &mut run.road, &run.result);
+            }
+            Ok(rolled)
         }
         (true, Some(synth)) => {
             let synth = synth.road();
@@ -228,6 +272,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
                     let windows = synth.windows(material)?;
                     let summary = RoadSummary::Synthetic {
                         count: windows.count(),
+                        warnings: Vec::new(),
                     };
                     gather_part(steps.len(), |sink| {
                         roll_part_on_windows(
@@ -248,7 +293,10 @@ pub(crate) fn rolling_on_uncalibrated_road(
                     let summits = synth.summit_stream()?;
                     let count = summits.count();
                     Ok(Rolled::Road(
-                        RoadSummary::Synthetic { count },
+                        RoadSummary::Synthetic {
+                            count,
+                            warnings: Vec::new(),
+                        },
                         Box::new(summits),
                     ))
                 }
@@ -259,21 +307,30 @@ pub(crate) fn rolling_on_uncalibrated_road(
                     let config = scenario.rolling_config()?;
                     let summary = RoadSummary::Synthetic {
                         count: positions.len(),
+                        warnings: Vec::new(),
                     };
                     finish(config, spec, summary, (positions, heights), result)
                 }
                 What::Whole => {
                     let road = synth.sphere_road(material)?;
                     let count = road.len();
-                    roll_road(
+                    let mut rolled = roll_road(
                         scenario,
                         &road,
-                        RoadSummary::Synthetic { count },
+                        RoadSummary::Synthetic {
+                            count,
+                            warnings: Vec::new(),
+                        },
                         material,
                         spec,
                         options,
                         what,
-                    )
+                    )?;
+                    if let Rolled::Run(run) = &mut rolled {
+                        let tally = PastCapTally::new(&road, 1.0, PastShape::Equators);
+                        warn_of_past_bounds(tally, &mut run.road, &run.result);
+                    }
+                    Ok(rolled)
                 }
             }
         }
@@ -284,6 +341,19 @@ pub(crate) fn rolling_on_uncalibrated_road(
             "no road: give [[asperity]] entries or [rolling.synthetic_road]".into(),
         )),
     }
+}
+
+/// Counts `result`'s contacts on `tally` and adds its warning, if any, to
+/// the road's summary.
+fn warn_of_past_bounds(
+    mut tally: PastCapTally,
+    road: &mut RoadSummary,
+    result: &rolling::RollingResult,
+) {
+    for step in &result.steps {
+        tally.count(step);
+    }
+    road.warnings_mut().extend(tally.warning());
 }
 
 fn run_on<L: ContactLaw + Sync>(

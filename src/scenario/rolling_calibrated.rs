@@ -113,6 +113,7 @@ pub(crate) fn roll_part_into(
         let windows = synth.road().windows(material)?;
         let summary = RoadSummary::Synthetic {
             count: windows.count(),
+            warnings: Vec::new(),
         };
         let window = |range| Ok(windows.window(range)?);
         return roll_part_on_windows(
@@ -120,7 +121,10 @@ pub(crate) fn roll_part_into(
         );
     }
     if let Some(road) = npy_window_road(scenario, options, material)? {
-        let summary = RoadSummary::Asperities { count: road.len() };
+        let summary = RoadSummary::Asperities {
+            count: road.len(),
+            warnings: Vec::new(),
+        };
         let window = |range| Ok(road.window(range)?);
         return roll_part_on_windows(
             scenario, material, spec, options, part, summary, window, sink,

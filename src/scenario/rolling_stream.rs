@@ -101,7 +101,11 @@ impl Scenario {
             return Ok(None);
         }
         let road = self.texture_rolling_road(&options.base_dir)?;
-        Ok(Some(crate::texture_road::PastCapTally::new(&road, 1.0)))
+        Ok(Some(crate::texture_road::PastCapTally::new(
+            &road,
+            1.0,
+            crate::texture_road::PastShape::Caps,
+        )))
     }
 
     /// The run made of the signals of records written elsewhere as they

@@ -649,12 +649,26 @@ impl Scenario {
                 let set = self.asperity_set()?;
                 let count = set.len();
                 let road = rolling::Road::new(set);
-                Ok(sweep.on(&road, RoadSummary::Asperities { count }, None))
+                Ok(sweep.on(
+                    &road,
+                    RoadSummary::Asperities {
+                        count,
+                        warnings: Vec::new(),
+                    },
+                    None,
+                ))
             }
             (true, Some(synth)) => {
                 let road = synth.road().sphere_road(material)?;
                 let count = road.len();
-                Ok(sweep.on(&road, RoadSummary::Synthetic { count }, None))
+                Ok(sweep.on(
+                    &road,
+                    RoadSummary::Synthetic {
+                        count,
+                        warnings: Vec::new(),
+                    },
+                    None,
+                ))
             }
             _ => Err(ScenarioError::Invalid(
                 "no road, or two: give [[asperity]] entries or [rolling.synthetic_road]".into(),

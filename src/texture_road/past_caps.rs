@@ -11,7 +11,7 @@
 //! the cap.
 
 use crate::asperity::CapGeometry;
-use crate::contact_law::ContactLaw;
+use crate::contact_law::{ContactLaw, PotentialLaw};
 use crate::rolling::{Road, RollingResult, StepRecord};
 
 use super::TextureLaw;
@@ -74,25 +74,50 @@ pub struct PastCapTally {
     /// this road or window).
     at_caps: Vec<f64>,
     stiffening: f64,
+    shape: PastShape,
     steps: usize,
     contacts: usize,
     worst: f64,
 }
 
+/// What the depth a contact was pressed past is, for the warning's words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PastShape {
+    /// A texture cap's table ([`super::TextureRoad::cap_depths`]).
+    Caps,
+    /// A ball's equator: past it its law goes on as a cylinder.
+    Equators,
+}
+
 impl PastCapTally {
     /// A tally for records rolled on `road` (a whole road or a window of
-    /// one), each law's force at its cap depth computed once.
-    pub fn new(road: &Road<TextureLaw>, stiffening: f64) -> Self {
-        let stiffening = stiffening.max(1.0);
-        let mut at_caps = vec![f64::NAN; road.global_len()];
+    /// one), each law's force at the depth its shape is described to
+    /// ([`CapGeometry::max_depth`]: a cap's table, a ball's equator)
+    /// computed once.
+    pub fn new<G: CapGeometry>(
+        road: &Road<PotentialLaw<G>>,
+        stiffening: f64,
+        shape: PastShape,
+    ) -> Self {
+        let mut at_depth = vec![f64::NAN; road.global_len()];
         for (local, law) in road.laws().iter().enumerate() {
-            if let Some(slot) = at_caps.get_mut(road.global_id(local)) {
-                *slot = stiffening * law.force(law.geometry().max_depth());
+            if let Some(slot) = at_depth.get_mut(road.global_id(local)) {
+                *slot = law.force(law.geometry().max_depth());
             }
         }
+        Self::from_bounds(at_depth, stiffening, shape)
+    }
+
+    /// A tally of the bounds `at_depth[id]`: each asperity's law force at
+    /// the depth its shape is described to (N; NaN or 0: no bound), by its
+    /// id on the whole road.
+    pub fn from_bounds(mut at_depth: Vec<f64>, stiffening: f64, shape: PastShape) -> Self {
+        let stiffening = stiffening.max(1.0);
+        at_depth.iter_mut().for_each(|f| *f *= stiffening);
         Self {
-            at_caps,
+            at_caps: at_depth,
             stiffening,
+            shape,
             steps: 0,
             contacts: 0,
             worst: 0.0,
@@ -127,13 +152,24 @@ impl PastCapTally {
             ("", "the force there")
         };
         let (steps, contacts, worst) = (self.steps, self.contacts, self.worst);
+        let (past, after) = match self.shape {
+            PastShape::Caps => (
+                "the depth their caps are tabulated to",
+                "their whole basins were in contact, and past that depth their laws are an \
+                 extrapolation (vertical walls), not the road's shape (a spike pressed through \
+                 to a flat around it?)",
+            ),
+            PastShape::Equators => (
+                "their balls' equators",
+                "past it a ball's law goes on as a cylinder, and Hertz's small-contact picture \
+                 ended well before: no ball road carries this (a lighter load or a smaller \
+                 approach, or larger summits?)",
+            ),
+        };
         (contacts > 0).then(|| {
             format!(
                 "at {steps} step(s){or_more}, {contacts} contact(s){or_more} were pressed past \
-                 the depth their caps are tabulated to (up to {worst:.2}× {there}): their whole \
-                 basins were in contact, and past that depth their laws are an extrapolation \
-                 (vertical walls), not the road's shape (a spike pressed through to a flat \
-                 around it?)"
+                 {past} (up to {worst:.2}× {there}): {after}"
             )
         })
     }
@@ -146,7 +182,7 @@ pub fn rolling_past_caps_warning(
     result: &RollingResult,
     stiffening: f64,
 ) -> Option<String> {
-    let mut tally = PastCapTally::new(road, stiffening);
+    let mut tally = PastCapTally::new(road, stiffening, PastShape::Caps);
     for step in &result.steps {
         tally.count(step);
     }

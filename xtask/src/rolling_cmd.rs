@@ -152,8 +152,17 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
                 say!("warning: {warning}");
             }
         }
-        RoadSummary::Synthetic { count } => say!("synthetic road: {count} spherical summits"),
-        RoadSummary::Asperities { .. } => {}
+        RoadSummary::Synthetic { count, warnings } => {
+            say!("synthetic road: {count} spherical summits");
+            for warning in warnings {
+                say!("warning: {warning}");
+            }
+        }
+        RoadSummary::Asperities { warnings, .. } => {
+            for warning in warnings {
+                say!("warning: {warning}");
+            }
+        }
     }
     if let RoadSummary::Texture(t) = &run.road
         && let Some(cal) = &t.calibration
