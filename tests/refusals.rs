@@ -200,6 +200,18 @@ fn an_output_name_leading_out_of_the_folder_is_refused() {
 #[test]
 fn duplicate_ids_and_sensor_names_are_refused() {
     refusal(PAPER, "id = 2\n", "id = 1\n", &["#2 id", "#1 has it too"]);
+    // Regression (adversarial run, 2026-11-30): two summits at one point
+    // were named by the solver's 0-based positions, twice. Now by entry
+    // and id, once.
+    refusal(
+        PAPER,
+        "id = 2\nx = \"10 mm\"",
+        "id = 2\nx = \"20 mm\"",
+        &[
+            "[[asperity]] #1 (id 1) and #2 (id 2) lie at the same point",
+            "merge them or move one",
+        ],
+    );
     refusal(
         TEXTURE_ROLLING,
         "name = \"shoulder\"",

@@ -107,6 +107,37 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
             ));
         }
     }
+    // Two summits at one point: said here by entry and id, not by the
+    // solver's 0-based positions ("summits 1 and 2 coincide").
+    let mut at: Vec<(u64, u64, usize)> = scenario
+        .asperities
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            (
+                (a.x.value() + 0.0).to_bits(),
+                (a.y.value() + 0.0).to_bits(),
+                k,
+            )
+        })
+        .collect();
+    at.sort_unstable();
+    if let Some(w) = at.windows(2).find(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1)) {
+        let (first, second) = (w[0].2.min(w[1].2), w[0].2.max(w[1].2));
+        let entry = |k: usize| {
+            let a = &scenario.asperities[k];
+            format!("#{} (id {})", k + 1, a.id.unwrap_or(k as u32 + 1))
+        };
+        let a = &scenario.asperities[first];
+        return Err(ScenarioError::Invalid(format!(
+            "[[asperity]] {} and {} lie at the same point (x = {} m, y = {} m): the Boussinesq \
+             coupling 1/r between them is infinite; merge them or move one",
+            entry(first),
+            entry(second),
+            a.x.value(),
+            a.y.value()
+        )));
+    }
     if let Some(t) = &scenario.texture {
         in_range(
             "[texture] min_prominence",
