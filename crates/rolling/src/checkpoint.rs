@@ -261,8 +261,21 @@ fn file_name(hash: u64, (a, b): (usize, usize)) -> String {
     format!("{hash:016x}-{a}-{b}.ckpt")
 }
 
-fn io_error(path: &Path, e: impl std::fmt::Display) -> RollingError {
-    RollingError::Checkpoint(format!("{}: {e}", path.display()))
+/// An I/O error on a checkpoint path, the two mistakes of kind said in
+/// words rather than the system's "Not a directory (os error 20)".
+fn io_error(path: &Path, e: std::io::Error) -> RollingError {
+    let why = match e.kind() {
+        std::io::ErrorKind::NotADirectory => {
+            "a file stands where the checkpoint folder (or a folder above it) belongs: move \
+             it, or set [rolling] checkpoint = false"
+                .to_string()
+        }
+        std::io::ErrorKind::IsADirectory => {
+            "a folder stands where a checkpoint file belongs: remove it".to_string()
+        }
+        _ => e.to_string(),
+    };
+    RollingError::Checkpoint(format!("{}: {why}", path.display()))
 }
 
 /// Writes the records of chunk `[a, b)` atomically.

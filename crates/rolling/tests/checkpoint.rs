@@ -262,3 +262,23 @@ fn a_part_leaves_other_writers_temporary_files_and_the_whole_run_removes_them() 
     std::fs::remove_dir_all(&base)?;
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-30): a checkpoint folder that is a
+/// file was reported as the system's "Not a directory (os error 20)". The
+/// error now says what stands there and what to do, naming the path.
+#[test]
+fn a_file_where_the_checkpoint_folder_belongs_is_said_so() -> TestResult {
+    let path = std::env::temp_dir().join(format!("tyreroad-ckpt-a-file-{}", std::process::id()));
+    std::fs::write(&path, "not a folder")?;
+    let message = run(&road(), &path)
+        .expect_err("a file in the folder's place")
+        .to_string();
+    assert!(
+        message.contains(&path.display().to_string())
+            && message.contains("a file stands where the checkpoint folder")
+            && message.contains("checkpoint = false"),
+        "{message}"
+    );
+    std::fs::remove_file(&path)?;
+    Ok(())
+}
