@@ -39,9 +39,7 @@ use crate::two_scale::LocalShape;
 mod past_caps;
 pub mod window;
 
-pub use past_caps::{
-    PastCap, PastCapTally, PastShape, pressed_past_caps, rolling_past_caps_warning,
-};
+pub use past_caps::{PastCap, PastCapTally, PastShape, pressed_past_caps};
 
 /// The contact law of one texture asperity.
 pub type TextureLaw = PotentialLaw<Arc<TabulatedCap>>;

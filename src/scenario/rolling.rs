@@ -13,7 +13,7 @@ use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
-use crate::texture_road::{PastCapTally, PastShape, rolling_past_caps_warning, rolling_road};
+use crate::texture_road::{PastCapTally, PastShape, rolling_road};
 
 /// Where the rolled road came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -221,13 +221,9 @@ pub(crate) fn rolling_on_uncalibrated_road(
             options,
             what,
         )?;
-        if let Rolled::Run(run) = &mut rolled
-            && let RoadSummary::Texture(summary) = &mut run.road
-        {
-            summary
-                .warnings
-                .extend(rolling_past_caps_warning(&road, &run.result, 1.0));
-        }
+        warn_of_past_bounds(&mut rolled, || {
+            PastCapTally::new(&road, 1.0, PastShape::Caps)
+        });
         return Ok(rolled);
     }
     match (scenario.asperities.is_empty(), &spec.synthetic_road) {
@@ -256,10 +252,9 @@ pub(crate) fn rolling_on_uncalibrated_road(
                 options,
                 what,
             )?;
-            if let Rolled::Run(run) = &mut rolled {
-                let tally = PastCapTally::from_bounds(equators, 1.0, PastShape::Equators);
-                warn_of_past_bounds(tally, &mut run.road, &run.result);
-            }
+            warn_of_past_bounds(&mut rolled, || {
+                PastCapTally::from_bounds(equators, 1.0, PastShape::Equators)
+            });
             Ok(rolled)
         }
         (true, Some(synth)) => {
@@ -326,10 +321,9 @@ pub(crate) fn rolling_on_uncalibrated_road(
                         options,
                         what,
                     )?;
-                    if let Rolled::Run(run) = &mut rolled {
-                        let tally = PastCapTally::new(&road, 1.0, PastShape::Equators);
-                        warn_of_past_bounds(tally, &mut run.road, &run.result);
-                    }
+                    warn_of_past_bounds(&mut rolled, || {
+                        PastCapTally::new(&road, 1.0, PastShape::Equators)
+                    });
                     Ok(rolled)
                 }
             }
@@ -343,17 +337,13 @@ pub(crate) fn rolling_on_uncalibrated_road(
     }
 }
 
-/// Counts `result`'s contacts on `tally` and adds its warning, if any, to
-/// the road's summary.
-fn warn_of_past_bounds(
-    mut tally: PastCapTally,
-    road: &mut RoadSummary,
-    result: &rolling::RollingResult,
-) {
-    for step in &result.steps {
-        tally.count(step);
+/// When `rolled` is a whole run: its contacts counted on `tally` (made
+/// only then) and the warning, if any, added to its road's summary.
+fn warn_of_past_bounds(rolled: &mut Rolled, tally: impl FnOnce() -> PastCapTally) {
+    if let Rolled::Run(run) = rolled {
+        let warning = tally().warning_over(&run.result.steps);
+        run.road.warnings_mut().extend(warning);
     }
-    road.warnings_mut().extend(tally.warning());
 }
 
 fn run_on<L: ContactLaw + Sync>(
@@ -394,13 +384,12 @@ pub(super) fn roll_road<L: ContactLaw + Sync>(
 pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     scenario: &Scenario,
     (road, coupling): (&rolling::Road<L>, Option<&dyn rolling::StepCoupling<L>>),
-    summary: RoadSummary,
+    mut summary: RoadSummary,
     material: Material,
     spec: &RollingSpec,
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
-    let mut summary = summary;
     if let RoadSummary::Texture(t) = &mut summary {
         t.warn_of_footprint_off_map(&scenario.rolling_config()?);
     }

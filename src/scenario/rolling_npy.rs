@@ -60,6 +60,7 @@ pub(super) fn npy_window_road(
 /// to rounding).
 pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
     let ((nx, ny), (dx, dy)) = (road.size(), road.spacing());
+    let (valid, total) = road.valid_points();
     TextureSummary {
         size: (nx, ny),
         spacing: (dx, dy),
@@ -71,13 +72,10 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         calibration: None,
         // Sq and the missing points only: the heights are read tile by
         // tile, never whole, so no percentiles for the outliers' check.
-        warnings: super::texture::missing_points_warning(
-            road.valid_points().0,
-            road.valid_points().1,
-        )
-        .into_iter()
-        .chain(super::texture::roughness_warning(road.rms()))
-        .collect(),
+        warnings: super::texture::missing_points_warning(valid, total)
+            .into_iter()
+            .chain(super::texture::roughness_warning(road.rms()))
+            .collect(),
     }
 }
 

@@ -78,8 +78,8 @@ impl Scenario {
     /// A tally of the contacts pressed past their caps for a streamed run
     /// ([`StepStream::count_past_caps`](super::output::steps_stream::StepStream::count_past_caps)),
     /// when its road is a texture map read whole and rolled elastic on the
-    /// Wilke laws (the road whose records `rolling_past_caps_warning`
-    /// counts in a whole run); `None` otherwise: calibrated laws count
+    /// Wilke laws (the road whose records a whole run counts on the same
+    /// tally); `None` otherwise: calibrated laws count
     /// their own tables, a `.npy` road read by windows never holds its
     /// laws whole, and a viscoelastic run is not streamed. The road is
     /// built for it, once.
@@ -136,9 +136,7 @@ impl Scenario {
         else {
             return Err(ScenarioError::Invalid("no road summary".into()));
         };
-        if let RoadSummary::Texture(t) = &mut road {
-            t.warnings.extend(signals.past_caps.clone());
-        }
+        road.warnings_mut().extend(signals.past_caps.clone());
         let spectra = spectra_of(
             &config,
             spec,

@@ -24,7 +24,7 @@ use super::units::{Dimension, Pressure, Quantity};
 use super::{RunOptions, Scenario, ScenarioError};
 use crate::fidelity::rolling_fields::FieldRolling;
 use crate::fidelity::{CalibratedLaw, Fidelity};
-use crate::texture_road::{rolling_past_caps_warning, rolling_road};
+use crate::texture_road::{PastCapTally, PastShape, rolling_road};
 
 /// The time dimension of relaxation times.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -629,17 +629,14 @@ impl Scenario {
                 // A case whose series does not shift to its temperature
                 // failed in its run already.
                 if let Ok(run) = run
-                    && let RoadSummary::Texture(summary) = &mut run.road
                     && let Ok(tread) = visco.at(&series, case.temperature)
                 {
                     // The laws are at [material]'s modulus; the tread is at
                     // most its instantaneous modulus stiffer.
                     let stiffening = tread.instantaneous() / material.youngs_modulus();
-                    summary.warnings.extend(rolling_past_caps_warning(
-                        &road,
-                        &run.result,
-                        stiffening,
-                    ));
+                    let warning = PastCapTally::new(&road, stiffening, PastShape::Caps)
+                        .warning_over(&run.result.steps);
+                    run.road.warnings_mut().extend(warning);
                 }
             }
             return Ok(runs);
@@ -692,10 +689,9 @@ impl Sweep<'_> {
     fn on<L: ContactLaw + Sync>(
         &self,
         road: &rolling::Road<L>,
-        summary: RoadSummary,
+        mut summary: RoadSummary,
         coupling: Option<&dyn rolling::StepCoupling<L>>,
     ) -> Vec<Result<RollingRun, ScenarioError>> {
-        let mut summary = summary;
         // A path the scenario cannot give fails in each case's run.
         if let (RoadSummary::Texture(t), Ok(config)) =
             (&mut summary, self.scenario.rolling_config())

@@ -12,9 +12,7 @@
 
 use crate::asperity::CapGeometry;
 use crate::contact_law::{ContactLaw, PotentialLaw};
-use crate::rolling::{Road, RollingResult, StepRecord};
-
-use super::TextureLaw;
+use crate::rolling::{Road, StepRecord};
 
 /// An asperity pressed deeper than its cap is tabulated
 /// ([`super::TextureRoad::cap_depths`]): its whole basin is in contact, and
@@ -140,6 +138,15 @@ impl PastCapTally {
         self.steps += usize::from(here > 0);
     }
 
+    /// [`Self::warning`] once every step of `steps` is counted (whole
+    /// records).
+    pub fn warning_over(mut self, steps: &[StepRecord]) -> Option<String> {
+        for step in steps {
+            self.count(step);
+        }
+        self.warning()
+    }
+
     /// What the run is told (`None` when no contact was pressed past its
     /// cap).
     pub fn warning(&self) -> Option<String> {
@@ -173,18 +180,4 @@ impl PastCapTally {
             )
         })
     }
-}
-
-/// [`PastCapTally`]'s warning for the whole records `result` rolled on
-/// `road`.
-pub fn rolling_past_caps_warning(
-    road: &Road<TextureLaw>,
-    result: &RollingResult,
-    stiffening: f64,
-) -> Option<String> {
-    let mut tally = PastCapTally::new(road, stiffening, PastShape::Caps);
-    for step in &result.steps {
-        tally.count(step);
-    }
-    tally.warning()
 }

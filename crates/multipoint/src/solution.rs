@@ -3,7 +3,22 @@
 use tyreroad_contact_law::{ContactLaw, LocalContact};
 use tyreroad_core::{Field, Grid};
 
-use crate::{Problem, SolveError};
+use crate::{Boussinesq, PairCorrection, Par, Problem, SolveError};
+
+/// The local interpenetrations `δ_i = δ0 − H_i − u_i` at approach `δ0`
+/// and interaction displacements `u`.
+pub(crate) fn interpenetrations<L: ContactLaw>(
+    problem: &Problem<L>,
+    approach: f64,
+    u: &[f64],
+) -> Vec<f64> {
+    problem
+        .gaps()
+        .iter()
+        .zip(u)
+        .map(|(h, u)| approach - h - u)
+        .collect()
+}
 
 /// How a returned solution met its convergence test (docs/theory.md §3).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,15 +105,9 @@ impl Solution {
         residual: f64,
         u: Vec<f64>,
     ) -> Self {
-        let depths = problem
-            .gaps()
-            .iter()
-            .zip(&u)
-            .map(|(h, u)| approach - h - u)
-            .collect();
         Self {
+            depths: interpenetrations(problem, approach, &u),
             forces,
-            depths,
             approach,
             iterations,
             load_steps,
@@ -107,6 +116,27 @@ impl Solution {
             recovery: Recovery::None,
             clusters: Vec::new(),
         }
+    }
+
+    /// A warm start at `forces` and `approach` with the local
+    /// interpenetrations they imply under the coupling `T + correction`,
+    /// `δ = δ0 − H − (T + C) P` (a previous state carried to moved gaps or
+    /// contact points; the solver may iterate on them).
+    pub fn consistent_warm_start<L: ContactLaw>(
+        problem: &Problem<L>,
+        forces: Vec<f64>,
+        approach: f64,
+        correction: &PairCorrection,
+    ) -> Self {
+        let mut u = vec![0.0; forces.len()];
+        Boussinesq::new(problem.positions(), problem.material().boussinesq_factor()).apply(
+            &forces,
+            &mut u,
+            Par::Seq,
+        );
+        correction.apply_add(&forces, &mut u);
+        let depths = interpenetrations(problem, approach, &u);
+        Self::warm_start(forces, depths, approach)
     }
 
     /// A state to warm-start [`solve_from`](crate::solve_from) with: forces,

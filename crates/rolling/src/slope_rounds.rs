@@ -16,8 +16,7 @@
 
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_multipoint::{
-    Boussinesq, Control, PairCorrection, Par, Problem, Solution, SolveError, SolverOptions,
-    solve_from,
+    Control, PairCorrection, Problem, Solution, SolveError, SolverOptions, solve_from,
 };
 
 use crate::coupling::{force_scale, largest_change, stalled_fixed_point};
@@ -96,47 +95,21 @@ pub(crate) fn contact_radii<L: ContactLaw>(solution: &Solution, problem: &Proble
 }
 
 /// `solution`'s forces and approach with the interpenetrations of
-/// `problem`: a warm start after the gaps moved ([`warm_start_at`]).
+/// `problem` (`Solution::consistent_warm_start`): a warm start after the
+/// gaps moved, its iterations carried.
 pub(crate) fn consistent_start<L: ContactLaw>(
     problem: &Problem<&L>,
-    material: Material,
     solution: &Solution,
     correction: &PairCorrection,
 ) -> Solution {
-    let mut start = warm_start_at(
+    let mut start = Solution::consistent_warm_start(
         problem,
-        material,
         solution.forces.clone(),
         solution.approach,
         correction,
     );
     start.iterations = solution.iterations;
     start
-}
-
-/// A warm start of `problem` at `forces` and `approach`, with the local
-/// interpenetrations they imply, `δ = δ0 − H − (T + C) P`.
-pub(crate) fn warm_start_at<L: ContactLaw>(
-    problem: &Problem<&L>,
-    material: Material,
-    forces: Vec<f64>,
-    approach: f64,
-    correction: &PairCorrection,
-) -> Solution {
-    let mut u = vec![0.0; forces.len()];
-    Boussinesq::new(problem.positions(), material.boussinesq_factor()).apply(
-        &forces,
-        &mut u,
-        Par::Seq,
-    );
-    correction.apply_add(&forces, &mut u);
-    let depths = problem
-        .gaps()
-        .iter()
-        .zip(&u)
-        .map(|(h, u)| approach - h - u)
-        .collect();
-    Solution::warm_start(forces, depths, approach)
 }
 
 /// An uncoupled step under the deformed tread: solve, move each gap to
@@ -184,7 +157,7 @@ pub(crate) fn settle_slopes<'p, L: ContactLaw + Sync>(
         }
         *current = mixer.next(current, &next);
         *problem = build(current)?;
-        let start = consistent_start(problem, material, &s, &PairCorrection::default());
+        let start = consistent_start(problem, &s, &PairCorrection::default());
         let next = match solve_from(problem, control, options, Some(&start)) {
             Ok(next) => next,
             Err(e) => return Ok(Err(e)),

@@ -14,9 +14,7 @@ use crate::coupling::{
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::slope::SlopeMixer;
-use crate::slope_rounds::{
-    consistent_start, contact_radii, deformed_slopes, settle_slopes, warm_start_at,
-};
+use crate::slope_rounds::{consistent_start, contact_radii, deformed_slopes, settle_slopes};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
 };
@@ -386,7 +384,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         }
         // Consistent local interpenetrations of the mapped state (the
         // solver may iterate on them).
-        warm_start_at(&problem, material, forces, c.approach, &warm_correction)
+        Solution::consistent_warm_start(&problem, forces, c.approach, &warm_correction)
     });
     let options = SolverOptions {
         tolerance: config.tolerance,
@@ -571,7 +569,7 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
             }
             *problem = build_at(road, material, config, xc, ids, laws, true, Some(current))?;
             offsets = offsets_of(problem);
-            s = consistent_start(problem, material, &s, &used);
+            s = consistent_start(problem, &s, &used);
         }
         let state = CouplingState {
             ids,

@@ -3,7 +3,7 @@
 
 use tyreroad_contact_law::{ContactLaw, LocalContact};
 use tyreroad_multipoint::{
-    Boussinesq, Convergence, PairCorrection, Par, Problem, Recovery, Solution, overlapping_contacts,
+    Convergence, PairCorrection, Problem, Recovery, Solution, overlapping_contacts,
 };
 use tyreroad_rolling::{StepCoupling, StepRecord, StepStatus};
 
@@ -132,18 +132,7 @@ pub(super) fn warm_start<L: ContactLaw>(
     for &i in old_ids {
         dense[i] = 0.0;
     }
-    let mut u = vec![0.0; forces.len()];
-    Boussinesq::new(problem.positions(), problem.material().boussinesq_factor()).apply(
-        &forces,
-        &mut u,
-        Par::Seq,
-    );
-    correction.apply_add(&forces, &mut u);
-    let depths = problem
-        .gaps()
-        .iter()
-        .zip(&u)
-        .map(|(h, u)| approach - h - u)
-        .collect();
-    Some(Solution::warm_start(forces, depths, *approach))
+    Some(Solution::consistent_warm_start(
+        problem, forces, *approach, correction,
+    ))
 }

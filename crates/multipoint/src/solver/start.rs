@@ -106,13 +106,7 @@ pub(super) fn jacobi_start<L: ContactLaw + Sync>(
         Boussinesq::new(problem.positions(), factor).apply(p, &mut u, options.par);
     }
     let (_, d0) = uncoupled_start(problem, control, &u);
-    let delta = problem
-        .gaps()
-        .iter()
-        .zip(&u)
-        .map(|(h, u)| d0 - h - u)
-        .collect();
-    (delta, d0)
+    (crate::solution::interpenetrations(problem, d0, &u), d0)
 }
 
 /// The state where every asperity carries its own law's force at fixed
