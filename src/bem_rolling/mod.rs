@@ -58,6 +58,7 @@
 //!   tolerance ([`BemRollingOptions::tolerance`]).
 
 mod compare;
+mod reference;
 mod refine;
 mod run_scenario;
 mod split;
@@ -68,13 +69,14 @@ pub use compare::{
     BandComparison, ERROR_DB_FOR_1DB, RollingComparison, SignalComparison, SpectrumKind, compare,
     compare_references, summit_sensor_forces, third_octave_policy, transient_policy,
 };
+pub use reference::BemReference;
 pub use refine::{
     GridConvergence, Refinement, grid_convergence, refine_bilinear, refined_texture_fields,
     run_grid_convergence,
 };
 pub use run_scenario::{
     BemRollingRun, FieldRungAccountings, Stretch, run_scenario_comparison,
-    run_scenario_comparison_against, texture_field,
+    run_scenario_comparison_against, scenario_bem_reference, texture_field,
 };
 pub use split::{AsperityShare, StepSplit, asperity_split};
 pub use visco::{roll_visco_bem, roll_visco_bem_scenario};

@@ -17,7 +17,8 @@ use crate::texture::HeightMap;
 use crate::texture_road::texture_road;
 
 use super::{
-    BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare, roll_bem,
+    BemReference, BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, compare,
+    roll_bem,
 };
 
 /// Both runs of one stretch and their comparison.
@@ -51,6 +52,9 @@ pub struct BemRollingRun {
     /// recounted on its calibrated road each way, and the coupling's
     /// rounds; `None` on the other rungs.
     pub field_rung: Option<FieldRungAccountings>,
+    /// What the BEM run was solved for: written beside its saved signals,
+    /// and checked when they are read back.
+    pub bem_reference: BemReference,
 }
 
 /// A `calibrated_fields` run's sensors counted each way
@@ -172,6 +176,7 @@ pub fn run_scenario_comparison_against(
         )?,
     };
     let bem_time = clock.elapsed();
+    let bem_reference = BemReference::of(&map, &scenario.material()?, config, options);
     let comparison = compare(
         &multipoint.result,
         &multipoint.road_positions,
@@ -239,7 +244,36 @@ pub fn run_scenario_comparison_against(
         summit_gaps,
         caps,
         field_rung,
+        bem_reference,
     })
+}
+
+/// [`BemReference::of`] a scenario's BEM rolling run, read before any
+/// solve (the texture's height map, the material, the rolling
+/// configuration): what `cargo xtask rolling-bem --bem-from` checks saved
+/// signals against before it runs the model.
+///
+/// # Errors
+/// [`BemRollingError::InvalidInput`] when the scenario has no `[texture]`;
+/// [`BemRollingError::Scenario`] when its map, material or `[rolling]`
+/// cannot be read.
+pub fn scenario_bem_reference(
+    scenario: &Scenario,
+    base_dir: &Path,
+    options: &BemRollingOptions,
+) -> Result<BemReference, BemRollingError> {
+    let Some(texture) = scenario.texture.as_ref() else {
+        return Err(BemRollingError::InvalidInput(
+            "the BEM rolling reference needs a scenario with a [texture]".into(),
+        ));
+    };
+    let map = texture.height_map(base_dir)?;
+    Ok(BemReference::of(
+        &map,
+        &scenario.material()?,
+        &scenario.rolling_config()?,
+        options,
+    ))
 }
 
 /// The multipoint run's sensors counted with each contact's force spread

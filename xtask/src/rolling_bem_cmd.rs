@@ -13,7 +13,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use tyreroad::bem_rolling::{
     BemRollingOptions, BemRollingRun, SignalComparison, Stretch, compare_references,
-    run_scenario_comparison_against,
+    run_scenario_comparison_against, scenario_bem_reference,
 };
 use tyreroad::fidelity::Fidelity;
 use tyreroad::scenario::output::{OutputSet, fmt};
@@ -23,6 +23,7 @@ use crate::charts::{Series, line_chart};
 use crate::rolling_bem_args::{
     RollingBemArgs, compared_step_rows, print_report_header, print_report_row,
 };
+use crate::rolling_bem_saved::SavedAs;
 
 /// Runs both models, prints the table, writes the files.
 pub fn run(args: &RollingBemArgs) -> Result<()> {
@@ -88,14 +89,28 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
             ""
         }
     );
-    let saved = match &args.bem_from {
-        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
-        None => None,
+    let base = args.scenario.parent().unwrap_or(Path::new("."));
+    let options = BemRollingOptions {
+        tolerance: args.tolerance,
+        ..BemRollingOptions::default()
     };
-    let check = match &args.bem_check {
-        Some(dir) => Some(crate::rolling_bem_saved::read(dir, &scenario)?),
-        None => None,
+    // Saved signals are checked against this scenario before anything is
+    // solved: a BEM run of another road, load or tread is refused.
+    let reference = if args.bem_from.is_some() || args.bem_check.is_some() {
+        Some(scenario_bem_reference(&scenario, base, &options)?)
+    } else {
+        None
     };
+    let read_saved = |dir: &Path, saved_as| -> Result<_> {
+        let reference = reference.as_ref().context("the reference was read above")?;
+        crate::rolling_bem_saved::read(dir, &scenario, (reference, saved_as))
+    };
+    let saved = (args.bem_from.as_deref())
+        .map(|dir| read_saved(dir, SavedAs::SameRun))
+        .transpose()?;
+    let check = (args.bem_check.as_deref())
+        .map(|dir| read_saved(dir, SavedAs::Check))
+        .transpose()?;
     let spectra = scenario.rolling.as_ref().map_or((args.segment, 1.0), |r| {
         (
             args.segment.or(r.segment),
@@ -103,11 +118,6 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
         )
     });
     let name = scenario.name.clone();
-    let base = args.scenario.parent().unwrap_or(Path::new("."));
-    let options = BemRollingOptions {
-        tolerance: args.tolerance,
-        ..BemRollingOptions::default()
-    };
     let run = run_scenario_comparison_against(
         scenario,
         base,
@@ -318,6 +328,10 @@ fn write_outputs(
     let mp = &run.multipoint.result;
     let steps = compared_step_rows(mp, &run.bem);
     set.write_csv("rolling_bem_steps.csv", &steps)?;
+    set.write(
+        crate::rolling_bem_saved::REFERENCE_FILE,
+        run.bem_reference.to_text().as_bytes(),
+    )?;
     let sensors = &run.multipoint.config.sensors;
     let summit =
         tyreroad::bem_rolling::summit_sensor_forces(mp, &run.multipoint.road_positions, sensors);

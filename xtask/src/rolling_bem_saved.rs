@@ -2,13 +2,15 @@
 //! `rolling-bem` run of the same stretch, read back from its
 //! `rolling_bem_steps.csv` and `rolling_bem_sensors.csv`, so that another
 //! fidelity is compared without solving the BEM again (the BEM reference
-//! does not depend on the model's laws).
+//! does not depend on the model's laws). The saved run's
+//! `rolling_bem_reference.txt` ([`BemReference`]) must name the same
+//! contact as this scenario's.
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use tyreroad::bem_rolling::{BemRollingResult, BemStep};
+use tyreroad::bem_rolling::{BemReference, BemRollingResult, BemStep};
 use tyreroad::rolling::StepStatus;
 use tyreroad::scenario::Scenario;
 
@@ -43,8 +45,65 @@ fn number(row: &HashMap<String, String>, key: &str, path: &Path) -> Result<f64> 
         .with_context(|| format!("{}: {key} = {v:?} is not a number", path.display()))
 }
 
-/// The BEM run saved in `dir` for `scenario`'s sensors and sampling.
-pub fn read(dir: &Path, scenario: &Scenario) -> Result<BemRollingResult> {
+/// The file beside the saved signals that names what the BEM was solved
+/// for ([`BemReference::to_text`]).
+pub const REFERENCE_FILE: &str = "rolling_bem_reference.txt";
+
+/// How a saved BEM run must match this scenario's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SavedAs {
+    /// The same BEM run (`--bem-from`): every input of [`BemReference`].
+    SameRun,
+    /// A convergence check of it (`--bem-check`): the same contact on
+    /// another grid, margin or tolerance
+    /// ([`BemReference::without_discretisation`]).
+    Check,
+}
+
+/// Refuses a saved run whose [`REFERENCE_FILE`] names another contact than
+/// `reference` (this scenario's), listing each input that differs. A
+/// folder saved before the file was written is read with a warning.
+fn check_reference(dir: &Path, reference: &BemReference, saved_as: SavedAs) -> Result<()> {
+    let path = dir.join(REFERENCE_FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            say!(
+                "warning: {} has no {REFERENCE_FILE} (saved by an older version): \
+                 nothing checks that its BEM was solved for this scenario's road, load and tread",
+                dir.display()
+            );
+            return Ok(());
+        }
+        Err(e) => return Err(e).with_context(|| format!("reading {}", path.display())),
+    };
+    let saved = BemReference::parse(&text).with_context(|| path.display().to_string())?;
+    let differences = match saved_as {
+        SavedAs::SameRun => reference.differences(&saved),
+        SavedAs::Check => reference
+            .without_discretisation()
+            .differences(&saved.without_discretisation()),
+    };
+    if !differences.is_empty() {
+        bail!(
+            "{}: the saved BEM run was solved for another contact than this scenario's:\n  {}\n\
+             (solve the BEM again without --bem-from/--bem-check, or point them at a run of this scenario)",
+            dir.display(),
+            differences.join("\n  ")
+        );
+    }
+    Ok(())
+}
+
+/// The BEM run saved in `dir` for `scenario`'s sensors and sampling, once
+/// its [`REFERENCE_FILE`] is found to name `reference`'s contact as
+/// `saved_as` asks.
+pub fn read(
+    dir: &Path,
+    scenario: &Scenario,
+    (reference, saved_as): (&BemReference, SavedAs),
+) -> Result<BemRollingResult> {
+    check_reference(dir, reference, saved_as)?;
     let config = scenario.rolling_config()?;
     let steps_path = dir.join("rolling_bem_steps.csv");
     let sensors_path = dir.join("rolling_bem_sensors.csv");
@@ -135,4 +194,76 @@ fn check_complete(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tyreroad::bem_rolling::{BemRollingOptions, scenario_bem_reference};
+
+    fn scenario(load: &str) -> Scenario {
+        on_grid(load, "nx = 96\nny = 48\nspacing = \"0.25 mm\"")
+    }
+
+    fn on_grid(load: &str, grid: &str) -> Scenario {
+        let text = format!(
+            "name = \"saved\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [rolling]\nstart = \"10 mm\"\nend = \"14 mm\"\nstep = \"1 mm\"\nspeed = \"10 m/s\"\n\
+             [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.1 m\"\nradius_y = \"0.1 m\"\n\
+             length = \"6 mm\"\nwidth = \"6 mm\"\n[rolling.control]\nload = \"{load}\"\n\
+             [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\n\
+             [texture.synth]\nkind = \"exposed_aggregate\"\n{grid}\nseed = 7\n"
+        );
+        Scenario::parse(&text, "saved").expect("the scenario parses")
+    }
+
+    /// Regression (adversarial run, 2026-11-30): `rolling-bem --bem-from`
+    /// compared a model run with a BEM run saved for another load (or
+    /// road, or tread) whenever the footprint positions agreed.
+    #[test]
+    fn saved_bem_signals_of_another_contact_are_refused_before_any_solve() {
+        let dir = std::env::temp_dir().join(format!("tyreroad-bem-from-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let options = BemRollingOptions::default();
+        let here = Path::new(".");
+        let saved = scenario_bem_reference(&scenario("30 N"), here, &options).expect("reference");
+        std::fs::write(dir.join(REFERENCE_FILE), saved.to_text()).expect("write");
+
+        let this = scenario("40 N");
+        let reference = scenario_bem_reference(&this, here, &options).expect("reference");
+        let message = format!(
+            "{:#}",
+            read(&dir, &this, (&reference, SavedAs::SameRun)).expect_err("another load")
+        );
+        assert!(
+            message.contains("another contact") && message.contains("control: saved Load(30.0)"),
+            "{message}"
+        );
+
+        // The same contact passes the check and goes on to the signals
+        // (none here).
+        let same = scenario("30 N");
+        let message = format!(
+            "{:#}",
+            read(&dir, &same, (&saved, SavedAs::SameRun)).expect_err("no signals")
+        );
+        assert!(message.contains("rolling_bem_steps.csv"), "{message}");
+
+        // A convergence check on a coarser grid is the same contact; as
+        // the same run it is refused, naming the grid.
+        let coarse = on_grid("30 N", "nx = 48\nny = 24\nspacing = \"0.5 mm\"");
+        let coarse = scenario_bem_reference(&coarse, here, &options).expect("reference");
+        std::fs::write(dir.join(REFERENCE_FILE), coarse.to_text()).expect("write");
+        let message = format!(
+            "{:#}",
+            read(&dir, &same, (&saved, SavedAs::Check)).expect_err("no signals")
+        );
+        assert!(message.contains("rolling_bem_steps.csv"), "{message}");
+        let message = format!(
+            "{:#}",
+            read(&dir, &same, (&saved, SavedAs::SameRun)).expect_err("grid")
+        );
+        assert!(message.contains("grid: saved 48 x 24 cells"), "{message}");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 }
