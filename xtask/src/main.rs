@@ -95,8 +95,8 @@ enum Command {
         #[arg(long, default_value = "validation")]
         out: PathBuf,
         /// Exit non-zero when any item fell back to a lower-fidelity
-        /// result, or (rolling) any step is not `converged` (the outputs
-        /// are written all the same).
+        /// result, (rolling) any step is not `converged`, or the run
+        /// printed a warning (the outputs are written all the same).
         #[arg(long)]
         strict: bool,
     },

@@ -44,10 +44,12 @@ impl Fallbacks {
         }
     }
 
-    /// As [`Fallbacks::from_static`], each asperity whose two-scale field
-    /// is a lower-fidelity fallback, and each pressed past its cap table.
+    /// As [`Fallbacks::from_static`], the texture's warnings, each asperity
+    /// whose two-scale field is a lower-fidelity fallback, and each pressed
+    /// past its cap table.
     pub fn from_texture(r: &TextureResult) -> Self {
         let mut f = Self::from_static(&r.statics);
+        f.add_warnings(r.texture.warnings.iter().cloned());
         if let Some(cal) = &r.texture.calibration {
             f.add_calibration(cal);
         }
@@ -100,6 +102,15 @@ impl Fallbacks {
         self.items.extend(cal.warnings());
     }
 
+    /// Warnings printed with the run's report (a road pressed past its
+    /// shapes, a footprint off the map, a window too narrow): each is an
+    /// item, so that `--strict` does not pass a run whose answer they put
+    /// in doubt.
+    pub fn add_warnings(&mut self, warnings: impl IntoIterator<Item = String>) {
+        self.items
+            .extend(warnings.into_iter().map(|w| format!("warning: {w}")));
+    }
+
     /// How many items fell back.
     pub fn len(&self) -> usize {
         self.items.len()
@@ -111,7 +122,7 @@ impl Fallbacks {
             return vec!["summary: every item converged at full fidelity".to_owned()];
         }
         let mut lines = vec![format!(
-            "summary: {} items fell back or did not converge:",
+            "summary: {} items fell back, did not converge or were warned of:",
             self.items.len()
         )];
         lines.extend(self.items.iter().take(LISTED).map(|i| format!("  - {i}")));
@@ -134,8 +145,8 @@ impl Fallbacks {
         }
         if strict && self.len() > 0 {
             anyhow::bail!(
-                "--strict: {} items fell back or did not converge (outputs written; listed \
-                 above)",
+                "--strict: {} items fell back, did not converge or were warned of (outputs \
+                 written; listed above)",
                 self.len()
             );
         }
@@ -161,6 +172,22 @@ mod tests {
         assert_eq!(lines.len(), 1 + LISTED + 1);
         assert!(lines[1].contains("load 50 N: not solved"));
         assert!(lines.last().is_some_and(|l| l.contains("11 more")));
+    }
+
+    /// Regression (adversarial run, 2026-11-30): `--strict` passed a
+    /// rolling run whose every contact was pressed past its cap, the
+    /// warning printed but not counted.
+    #[test]
+    fn warnings_are_summary_items_that_strict_fails_on() {
+        let mut f = Fallbacks::default();
+        f.add_warnings(vec![
+            "at 4 of 4 steps, 12 contacts were pressed past their caps".to_owned(),
+        ]);
+        assert_eq!(f.len(), 1);
+        assert!(f.lines()[1].contains("warning: at 4 of 4 steps"));
+        let e = f.finish(true).map_err(|e| e.to_string());
+        assert!(e.is_err_and(|e| e.contains("were warned of")));
+        assert!(f.finish(false).is_ok());
     }
 
     #[test]
