@@ -139,3 +139,37 @@ fn a_run_that_fails_outright_says_what_looked_wrong_with_the_heights()
     );
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-30): two `[[asperity]]` summits
+/// 1 µm apart carried almost nothing between them, a third ball 10 mm away
+/// took the whole load, and the run ended "every item converged" with only
+/// the overlap note: the point kernel 1/r between summits inside each
+/// other's patch is far too stiff. Each such load is now warned of; the
+/// same balls 5 mm apart are not.
+#[test]
+fn summits_inside_each_others_contact_patch_are_warned_of() -> Result<(), Box<dyn std::error::Error>>
+{
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    let run = |dx: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"close\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [default_shape]\nkind = \"sphere\"\nradius = \"5 mm\"\n[static]\nloads = [\"5 N\", \"50 N\"]\n\
+             [[asperity]]\nx = \"0 mm\"\ny = \"0 mm\"\n[[asperity]]\nx = \"{dx}\"\ny = \"0 mm\"\n\
+             [[asperity]]\nx = \"10 mm\"\ny = \"0 mm\"\n"
+        );
+        let ScenarioResult::Static(r) =
+            Scenario::parse(&text, "close")?.run(&RunOptions::default())?
+        else {
+            return Err("not a static run".into());
+        };
+        Ok(r.warnings)
+    };
+    let close = run("0.001 mm")?;
+    assert_eq!(close.len(), 2, "{close:?}");
+    assert!(
+        close[1].starts_with("load 50 N: the summits of asperities 1 and 2 lie 0.0010 mm apart"),
+        "{close:?}"
+    );
+    assert!(run("5 mm")?.is_empty());
+    Ok(())
+}
