@@ -78,6 +78,14 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
             }
         }
         for (k, w) in s.loads.iter().enumerate() {
+            // One load given twice would be solved and reported twice.
+            if let Some(first) = s.loads[..k].iter().position(|v| v.value() == w.value()) {
+                return Err(bad(
+                    &format!("[static] loads[{k}]"),
+                    format!("{} N", w.value()),
+                    &format!("a load not given before (loads[{first}] is the same)"),
+                ));
+            }
             in_range(
                 &format!("[static] loads[{k}]"),
                 w.value(),
@@ -488,6 +496,20 @@ fn check_rolling(scenario: &Scenario, r: &RollingSpec) -> Result<(), ScenarioErr
         let area = g.length * g.width;
         let packed = area / (0.5 * g.min_spacing * g.min_spacing);
         let summits = (g.density * area).min(packed);
+        // The road holds round(density · area) summits (rolling::synth):
+        // none at all is a road with nothing to touch.
+        if (g.density * area).round() < 1.0 {
+            return Err(bad(
+                "[rolling.synthetic_road] density",
+                format!("{} 1/m2", g.density),
+                &format!(
+                    "at least one summit on the {} × {} m road (density ≥ {:.3e} 1/m2)",
+                    g.length,
+                    g.width,
+                    0.5 / area
+                ),
+            ));
+        }
         if summits > MAX_SYNTHETIC_SUMMITS {
             return Err(bad(
                 "[rolling.synthetic_road] density",

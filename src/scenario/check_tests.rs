@@ -53,6 +53,36 @@ fn out_of_range_static_values_name_their_key() {
         "[default_shape] radius",
     );
     refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
+    // Regression (adversarial run, 2026-11-30): a load given twice was
+    // solved and printed twice.
+    refused(
+        PAPER,
+        "\"500 N\"]",
+        "\"500 N\", \"355 N\"]",
+        "[static] loads[4]` = 355 N: expected a load not given before (loads[1]",
+    );
+}
+
+/// Regression (adversarial run, 2026-11-30): `density = 1` on a 0.12 ×
+/// 0.08 m synthetic road made a road of no summit, refused at run time
+/// as "no asperity" without naming the key.
+#[test]
+fn a_synthetic_road_density_that_places_no_summit_is_refused_by_key() {
+    const SMALL: &str = include_str!("../../fixtures/rolling_small.toml");
+    refused(
+        SMALL,
+        "density = 85000",
+        "density = 1",
+        "[rolling.synthetic_road] density",
+    );
+    // One summit (0.5 / area rounds up to one) is a road.
+    assert!(
+        Scenario::parse(
+            &SMALL.replacen("density = 85000", "density = 105", 1),
+            "one"
+        )
+        .is_ok()
+    );
 }
 
 /// An unknown `[model]` name is refused with every name the key

@@ -77,16 +77,31 @@ pub struct RollingBemArgs {
 
 /// One row of the comparison table: per-step and band errors of a signal.
 pub(crate) fn print_report_row(label: &str, s: &SignalComparison) {
-    say!(
-        "{:<22} {:>12.2} {:>12.2} {:>14.2} {:>14.2} {:>14.1} {:>10}",
+    say!("{}", report_row(label, s));
+}
+
+/// [`print_report_row`]'s line. A column over no band says `none`, not
+/// the library's empty maxima (`0`, `−∞`), which read as agreement.
+fn report_row(label: &str, s: &SignalComparison) -> String {
+    let any = !s.bands.is_empty();
+    let resolved = s.bands.iter().any(|b| b.resolved);
+    let db = |show: bool, v: f64, digits: usize| {
+        if show {
+            format!("{v:.digits$}")
+        } else {
+            "none".to_owned()
+        }
+    };
+    format!(
+        "{:<22} {:>12.2} {:>12.2} {:>14} {:>14} {:>14} {:>10}",
         label,
         100.0 * s.max_error,
         100.0 * s.rms_error,
-        s.max_band_db(),
-        s.max_resolved_band_db(),
-        s.max_resolved_error_db(),
+        db(any, s.max_band_db(), 2),
+        db(resolved, s.max_resolved_band_db(), 2),
+        db(resolved, s.max_resolved_error_db(), 1),
         s.spectrum.name()
-    );
+    )
 }
 
 /// The header of [`print_report_row`]'s table, with what its last two
@@ -193,6 +208,40 @@ pub(crate) fn compared_step_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (adversarial run, 2026-11-30): a comparison whose bands
+    /// were all unresolved printed `0.00` and `-inf` in the band columns,
+    /// read as perfect agreement.
+    #[test]
+    fn a_signal_with_no_resolved_band_says_none_in_the_band_columns() {
+        use tyreroad::bem_rolling::{BandComparison, SpectrumKind};
+        let band = |resolved| BandComparison {
+            nominal: 1000.0,
+            model_db: 80.0,
+            reference_db: 74.0,
+            difference_db: 6.0,
+            error_db: 1.5,
+            resolved,
+        };
+        let mut s = SignalComparison {
+            name: "centre".into(),
+            scale: 1.0,
+            max_error: 0.1,
+            rms_error: 0.05,
+            spectrum: SpectrumKind::Welch,
+            bands: vec![band(false)],
+        };
+        let row = report_row("centre", &s);
+        assert!(
+            row.contains("6.00") && row.matches("none").count() == 2,
+            "{row}"
+        );
+        s.bands = vec![band(true)];
+        let row = report_row("centre", &s);
+        assert!(!row.contains("none") && row.contains("1.5"), "{row}");
+        s.bands.clear();
+        assert_eq!(report_row("centre", &s).matches("none").count(), 3);
+    }
 
     /// Regression (adversarial run, 2026-11-30): `--speed 1e300` and
     /// `1e-9` were accepted; the range is `[rolling] speed`'s.

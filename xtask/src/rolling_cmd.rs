@@ -58,12 +58,33 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<F
             fidelity.name()
         );
     }
+    if let Some(note) = end_off_the_step_grid(&scenario.rolling_config()?) {
+        say!("note: {note}");
+    }
     let result = scenario.run(&options);
     bar.finish();
     let ScenarioResult::Rolling(run) = result? else {
         anyhow::bail!("scenario {}: no [rolling] section", scenario.name);
     };
     report_rolling(&run, out)
+}
+
+/// A note when the path's `end` is not on the step grid from `start`
+/// (beyond the rolling crate's `10⁻⁹ Δx`): the steps stop at the last
+/// grid point before it, short of the end the scenario names.
+fn end_off_the_step_grid(config: &rolling::RollingConfig) -> Option<String> {
+    let n = config.steps();
+    let last = config.position(n - 1);
+    (config.end - last > 1e-6 * config.step).then(|| {
+        format!(
+            "[rolling] end = {:.6} m is not on the step grid from start = {:.6} m in steps of \
+             {:.6} m: the last of the {n} steps is at x = {last:.6} m, {:.3} mm short of it",
+            config.end,
+            config.start,
+            config.step,
+            (config.end - last) * 1e3
+        )
+    })
 }
 
 /// Prints what a rolling run needs to be read right, and writes its files.
@@ -478,6 +499,26 @@ fn spacing_text((dx, dy): (f64, f64)) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (adversarial run, 2026-11-30): an `end` off the step
+    /// grid ended the path a step short without a word.
+    #[test]
+    fn an_end_off_the_step_grid_is_noted_with_the_last_step() {
+        let tread = rolling::Tread::Block {
+            length: 0.05,
+            width: 0.04,
+        };
+        let control = rolling::RollingControl::Load(50.0);
+        let config = |end| rolling::RollingConfig::new(tread, [0.03, end, 1e-3], 10.0, control);
+        let note = end_off_the_step_grid(&config(0.0605)).expect("off the grid");
+        assert!(
+            note.contains("the last of the 31 steps is at x = 0.060000 m, 0.500 mm short"),
+            "{note}"
+        );
+        assert_eq!(end_off_the_step_grid(&config(0.06)), None);
+        // A grid point reached to rounding is on the grid.
+        assert_eq!(end_off_the_step_grid(&config(0.03 + 30.0 * 1e-3)), None);
+    }
 
     #[test]
     fn small_run_writes_outputs() -> Result<()> {
