@@ -259,3 +259,41 @@ fn a_rolling_road_of_balls_pressed_past_their_equators_is_warned_of() -> TestRes
     assert!(run("3 N")?.is_empty());
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-11-30): on a rolling road of balls,
+/// two summits 1 µm apart (each inside the other's patch, the point kernel
+/// 1/r between them far too stiff) rolled with only the overlap note. The
+/// run's road summary now warns, naming the two `[[asperity]]` entries;
+/// the same balls 8 mm apart are not warned of.
+#[test]
+fn rolling_ball_summits_inside_each_others_patch_are_warned_of() -> TestResult {
+    let run = |dx: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"close\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [default_shape]\nkind = \"sphere\"\nradius = \"5 mm\"\n\
+             [rolling]\nstart = \"20 mm\"\nend = \"23 mm\"\nstep = \"1 mm\"\n\
+             speed = \"50 km/h\"\nmargin = \"5 mm\"\ncheckpoint = false\n\
+             [rolling.tread]\nkind = \"block\"\nlength = \"40 mm\"\nwidth = \"30 mm\"\n\
+             [rolling.control]\nload = \"20 N\"\n\
+             [[asperity]]\nx = \"20 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nx = \"{dx}\"\ny = \"0 mm\"\n\
+             [[asperity]]\nx = \"15 mm\"\ny = \"-5 mm\"\n"
+        );
+        let ScenarioResult::Rolling(run) =
+            Scenario::parse(&text, "close")?.run(&RunOptions::new("."))?
+        else {
+            return Err("not a rolling result".into());
+        };
+        Ok(run.road.warnings().to_vec())
+    };
+    let close = run("20.001 mm")?;
+    assert!(
+        close.iter().any(
+            |w| w.starts_with("at 4 of 4 steps, 4 pairs of ball summits")
+                && w.contains("[[asperity]] #1 and [[asperity]] #2, 0.0010 mm apart")
+        ),
+        "{close:?}"
+    );
+    assert!(run("28 mm")?.is_empty());
+    Ok(())
+}

@@ -78,14 +78,6 @@ pub fn check(scenario: &Scenario) -> Result<(), ScenarioError> {
             }
         }
         for (k, w) in s.loads.iter().enumerate() {
-            // One load given twice would be solved and reported twice.
-            if let Some(first) = s.loads[..k].iter().position(|v| v.value() == w.value()) {
-                return Err(bad(
-                    &format!("[static] loads[{k}]"),
-                    format!("{} N", w.value()),
-                    &format!("a load not given before (loads[{first}] is the same)"),
-                ));
-            }
             in_range(
                 &format!("[static] loads[{k}]"),
                 w.value(),

@@ -53,14 +53,6 @@ fn out_of_range_static_values_name_their_key() {
         "[default_shape] radius",
     );
     refused(PAPER, "id = 2\n", "id = 1\n", "#2 id");
-    // Regression (adversarial run, 2026-11-30): a load given twice was
-    // solved and printed twice.
-    refused(
-        PAPER,
-        "\"500 N\"]",
-        "\"500 N\", \"355 N\"]",
-        "[static] loads[4]` = 355 N: expected a load not given before (loads[1]",
-    );
 }
 
 /// Regression (adversarial run, 2026-11-30): `density = 1` on a 0.12 ×

@@ -29,6 +29,7 @@ mod rolling;
 mod rolling_calibrated;
 mod rolling_caps;
 mod rolling_fields;
+mod rolling_inside;
 mod rolling_npy;
 mod rolling_spec;
 mod rolling_stream;

@@ -10,6 +10,7 @@ use tyreroad_multipoint::{AsperitySet, Par};
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
+use super::rolling_inside::InsidePatchTally;
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
@@ -230,16 +231,18 @@ pub(crate) fn rolling_on_uncalibrated_road(
         (false, None) => {
             let set = scenario.asperity_set()?;
             let count = set.len();
-            // Each ball's law force at its equator (no bound for other
-            // shapes), before the set moves into the road.
-            let equators: Vec<f64> = (0..count)
+            // Each ball's radius and its law's force at its equator (no
+            // bound for other shapes), before the set moves into the road.
+            let balls: Vec<f64> = (0..count)
                 .map(|k| match scenario.shape_of(k) {
-                    Ok(super::ShapeSpec::Sphere { radius, .. }) => {
-                        set.laws()[k].force(radius.value())
-                    }
+                    Ok(super::ShapeSpec::Sphere { radius, .. }) => radius.value(),
                     _ => f64::NAN,
                 })
                 .collect();
+            let equators: Vec<f64> = (balls.iter().zip(set.laws()))
+                .map(|(&r, law)| if r.is_nan() { r } else { law.force(r) })
+                .collect();
+            let positions = set.positions().to_vec();
             let mut rolled = run_on(
                 scenario,
                 set,
@@ -255,6 +258,11 @@ pub(crate) fn rolling_on_uncalibrated_road(
             warn_of_past_bounds(&mut rolled, || {
                 PastCapTally::from_bounds(equators, 1.0, PastShape::Equators)
             });
+            let name = |k: usize| format!("[[asperity]] #{}", k + 1);
+            warn_of_summits_inside_patches(
+                &mut rolled,
+                InsidePatchTally::new((&positions, &balls), material.reduced_modulus(), &name),
+            );
             Ok(rolled)
         }
         (true, Some(synth)) => {
@@ -324,6 +332,16 @@ pub(crate) fn rolling_on_uncalibrated_road(
                     warn_of_past_bounds(&mut rolled, || {
                         PastCapTally::new(&road, 1.0, PastShape::Equators)
                     });
+                    let balls: Vec<f64> = (0..count).map(|i| road.summit_radius(i)).collect();
+                    let name = |k: usize| format!("summit {k} of the synthetic road");
+                    warn_of_summits_inside_patches(
+                        &mut rolled,
+                        InsidePatchTally::new(
+                            (road.positions(), &balls),
+                            material.reduced_modulus(),
+                            &name,
+                        ),
+                    );
                     Ok(rolled)
                 }
             }
@@ -342,6 +360,15 @@ pub(crate) fn rolling_on_uncalibrated_road(
 fn warn_of_past_bounds(rolled: &mut Rolled, tally: impl FnOnce() -> PastCapTally) {
     if let Rolled::Run(run) = rolled {
         let warning = tally().warning_over(&run.result.steps);
+        run.road.warnings_mut().extend(warning);
+    }
+}
+
+/// When `rolled` is a whole run: the warning of [`InsidePatchTally`], if
+/// any, added to its road's summary.
+fn warn_of_summits_inside_patches(rolled: &mut Rolled, tally: InsidePatchTally<'_>) {
+    if let Rolled::Run(run) = rolled {
+        let warning = tally.warning_over(&run.result.steps);
         run.road.warnings_mut().extend(warning);
     }
 }
