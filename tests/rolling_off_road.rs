@@ -57,3 +57,33 @@ fn a_calibrated_path_beside_the_road_is_refused_as_a_wilke_one_is() {
         "{e}"
     );
 }
+
+/// Regression (adversarial run, 2026-11-30): a path along the edge of a
+/// synthetic road, its footprint a quarter off the road, got only the
+/// clearance warning, where a texture map's is named. The road summary
+/// now warns with both extents; the fixture's own path is not warned of.
+#[test]
+fn a_footprint_reaching_off_a_synthetic_road_is_warned_of() {
+    use tyreroad::scenario::ScenarioResult;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/rolling_small.toml");
+    let text = std::fs::read_to_string(path).expect("fixture");
+    let warnings = |text: &str| {
+        let ScenarioResult::Rolling(run) = Scenario::parse(text, "edge")
+            .expect("parses")
+            .run(&RunOptions::new("."))
+            .expect("runs")
+        else {
+            panic!("not a rolling run");
+        };
+        run.road.warnings().to_vec()
+    };
+    assert!(warnings(&text).is_empty());
+    let edge = text.replace("lateral = \"2 mm\"", "lateral = \"30 mm\"");
+    let w = warnings(&edge);
+    assert!(
+        w.iter().any(|w| w.starts_with(
+            "the tread's footprint (50.0 × 40.0 mm) reaches off the synthetic road (120.0 × 80.0 mm)"
+        ) && w.contains("y = 10.0 … 50.0 mm")),
+        "{w:?}"
+    );
+}

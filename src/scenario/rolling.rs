@@ -12,7 +12,7 @@ use tyreroad_rolling as rolling;
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_inside::InsidePatchTally;
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
-use super::texture::{TextureSummary, rolling_texture_road_set};
+use super::texture::{TextureSummary, footprint_off_road, rolling_texture_road_set};
 use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
 use crate::texture_road::{PastCapTally, PastShape, rolling_road};
 
@@ -417,8 +417,19 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
-    if let RoadSummary::Texture(t) = &mut summary {
-        t.warn_of_footprint_off_map(&scenario.rolling_config()?);
+    match &mut summary {
+        RoadSummary::Texture(t) => t.warn_of_footprint_off_map(&scenario.rolling_config()?),
+        RoadSummary::Synthetic { warnings, .. } => {
+            if let Some(synth) = &spec.synthetic_road {
+                let g = synth.road();
+                warnings.extend(footprint_off_road(
+                    &scenario.rolling_config()?,
+                    ((g.length, g.width), (g.min_spacing, g.min_spacing)),
+                    ("synthetic road", "give a longer or wider road"),
+                ));
+            }
+        }
+        RoadSummary::Asperities { .. } => {}
     }
     if let What::Road = what {
         let summits = SummitSlices {

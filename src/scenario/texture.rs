@@ -61,45 +61,58 @@ impl TextureSummary {
     /// so the part off the map carries nothing and the load rests on the
     /// rest, a footprint unlike the tyre's.
     pub(crate) fn warn_of_footprint_off_map(&mut self, config: &tyreroad_rolling::RollingConfig) {
-        let (hx, hy) = config.tread.half_extents();
-        let (ex, ey) = self.extent;
-        let along = (
-            config.start.min(config.end) - hx,
-            config.start.max(config.end) + hx,
-        );
-        let across = (config.lateral - hy, config.lateral + hy);
-        // A sliver off the map is no matter (a 150 mm tyre on a 149.75 mm
-        // map: its edges carry next to nothing); a twentieth of the
-        // footprint, or two cells, is.
-        let (cx, cy) = self.spacing;
-        let (sx, sy) = ((0.1 * hx).max(2.0 * cx), (0.1 * hy).max(2.0 * cy));
-        if along.0 >= -sx
-            && along.1 <= ex + sx
-            && across.0 >= -0.5 * ey - sy
-            && across.1 <= 0.5 * ey + sy
-        {
-            return;
-        }
-        let mm = |v: f64| v * 1e3;
-        self.warnings.push(format!(
-            "the tread's footprint ({:.1} × {:.1} mm) reaches off the map ({:.1} × {:.1} mm) \
-             along the path: it covers x = {:.1} … {:.1} mm and y = {:.1} … {:.1} mm, the map \
-             x = 0 … {:.1} mm and y = {:.1} … {:.1} mm; no asperity lies off the map, so the \
-             load rests on the part that is on it (shorten the path, narrow the tread, or give \
-             a larger map)",
-            mm(2.0 * hx),
-            mm(2.0 * hy),
-            mm(ex),
-            mm(ey),
-            mm(along.0),
-            mm(along.1),
-            mm(across.0),
-            mm(across.1),
-            mm(ex),
-            mm(-0.5 * ey),
-            mm(0.5 * ey),
+        self.warnings.extend(footprint_off_road(
+            config,
+            (self.extent, self.spacing),
+            ("map", "give a larger map"),
         ));
     }
+}
+
+/// The warning of a rolling path whose footprint reaches off a road of
+/// `extent` (m; x from 0, y centred on 0) sampled every `cell` (m) —
+/// `noun` names the road ("map"), `remedy` the user's third way out — or
+/// `None` when it stays on. A sliver off the road is no matter (a 150 mm
+/// tyre on a 149.75 mm map: its edges carry next to nothing); a tenth of
+/// the footprint's half, or two cells, is.
+pub(crate) fn footprint_off_road(
+    config: &tyreroad_rolling::RollingConfig,
+    ((ex, ey), (cx, cy)): ((f64, f64), (f64, f64)),
+    (noun, remedy): (&str, &str),
+) -> Option<String> {
+    let (hx, hy) = config.tread.half_extents();
+    let along = (
+        config.start.min(config.end) - hx,
+        config.start.max(config.end) + hx,
+    );
+    let across = (config.lateral - hy, config.lateral + hy);
+    let (sx, sy) = ((0.1 * hx).max(2.0 * cx), (0.1 * hy).max(2.0 * cy));
+    if along.0 >= -sx
+        && along.1 <= ex + sx
+        && across.0 >= -0.5 * ey - sy
+        && across.1 <= 0.5 * ey + sy
+    {
+        return None;
+    }
+    let mm = |v: f64| v * 1e3;
+    Some(format!(
+        "the tread's footprint ({:.1} × {:.1} mm) reaches off the {noun} ({:.1} × {:.1} mm) \
+         along the path: it covers x = {:.1} … {:.1} mm and y = {:.1} … {:.1} mm, the {noun} \
+         x = 0 … {:.1} mm and y = {:.1} … {:.1} mm; no asperity lies off the {noun}, so the \
+         load rests on the part that is on it (shorten the path, narrow the tread, or \
+         {remedy})",
+        mm(2.0 * hx),
+        mm(2.0 * hy),
+        mm(ex),
+        mm(ey),
+        mm(along.0),
+        mm(along.1),
+        mm(across.0),
+        mm(across.1),
+        mm(ex),
+        mm(-0.5 * ey),
+        mm(0.5 * ey),
+    ))
 }
 
 /// What calibrating a texture's caps took: a static run's every cap, a
