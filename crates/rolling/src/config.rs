@@ -148,6 +148,21 @@ impl RollingConfig {
         Ok(())
     }
 
+    /// Under [`RollingControl::Approach`] on a tyre, the imposed approach
+    /// and the tread's profile height at the edge of its selection window
+    /// ([`Tread::boundary_profile`]) when the approach is the deeper:
+    /// asperities outside the window could then touch at every step, so
+    /// the selection is not exact there (each step's `clearance` below
+    /// zero). Known before any solve; `None` otherwise (under load control
+    /// the approach is an output).
+    pub fn approach_past_window(&self) -> Option<(f64, f64)> {
+        let RollingControl::Approach(approach) = self.control else {
+            return None;
+        };
+        let boundary = (self.tread).boundary_profile(self.tread.effective_margin(self.margin));
+        (approach > boundary).then_some((approach, boundary))
+    }
+
     /// Number of steps on the path ([`path_steps`], at least 1).
     pub fn steps(&self) -> usize {
         path_steps(self.start, self.end, self.step).max(1.0) as usize
@@ -180,4 +195,46 @@ pub struct CheckpointOptions {
 /// count, or one that ends before it starts, before any config is built.
 pub fn path_steps(start: f64, end: f64, step: f64) -> f64 {
     ((end - start) / step + 1e-9).floor() + 1.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (adversarial run, 2026-11-30): `approach = "100 mm"` under
+    /// a 50 × 40 mm tyre footprint rolled for minutes a step, warned of
+    /// only after it ended. The approach past the window's edge is known
+    /// before any solve.
+    #[test]
+    fn an_approach_deeper_than_the_window_edge_is_known_before_the_solve() {
+        let tyre = Tread::Tyre {
+            radius_x: 0.3,
+            radius_y: 0.5,
+            length: 0.05,
+            width: 0.04,
+        };
+        let at = |control| {
+            let mut c = RollingConfig::new(tyre, [0.04, 0.08, 1e-3], 13.9, control);
+            c.margin = 0.01;
+            c.approach_past_window()
+        };
+        // Edge of the window: (25 + 10)² / (2 · 300) = 2.04 mm along x,
+        // (20 + 10)² / (2 · 500) = 0.9 mm across: the lower.
+        let (approach, edge) = at(RollingControl::Approach(0.1)).expect("past the edge");
+        assert_eq!(approach, 0.1);
+        assert!((edge - 0.9e-3).abs() < 1e-12, "{edge}");
+        assert_eq!(at(RollingControl::Approach(0.5e-3)), None);
+        assert_eq!(at(RollingControl::Load(30.0)), None);
+        let block = Tread::Block {
+            length: 0.05,
+            width: 0.04,
+        };
+        let c = RollingConfig::new(
+            block,
+            [0.04, 0.08, 1e-3],
+            13.9,
+            RollingControl::Approach(0.1),
+        );
+        assert_eq!(c.approach_past_window(), None);
+    }
 }
