@@ -625,47 +625,53 @@ impl Scenario {
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling_road(set, radii, summary.top)?;
             let mut runs = sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None);
-            for (run, case) in runs.iter_mut().zip(sweep.cases) {
-                // A case whose series does not shift to its temperature
-                // failed in its run already.
-                if let Ok(run) = run
-                    && let Ok(tread) = visco.at(&series, case.temperature)
-                {
-                    // The laws are at [material]'s modulus; the tread is at
-                    // most its instantaneous modulus stiffer.
-                    let stiffening = tread.instantaneous() / material.youngs_modulus();
-                    let warning = PastCapTally::new(&road, stiffening, PastShape::Caps)
-                        .warning_over(&run.result.steps);
-                    run.road.warnings_mut().extend(warning);
-                }
-            }
+            sweep.warn_of_past_bounds(&mut runs, |stiffening| {
+                PastCapTally::new(&road, stiffening, PastShape::Caps)
+            });
             return Ok(runs);
         }
         match (self.asperities.is_empty(), &spec.synthetic_road) {
             (false, None) => {
                 let set = self.asperity_set()?;
                 let count = set.len();
+                // Each ball's law force at its equator (NaN: not a ball).
+                let equators: Vec<f64> = (0..count)
+                    .map(|k| match self.shape_of(k) {
+                        Ok(super::ShapeSpec::Sphere { radius, .. }) => {
+                            set.laws()[k].force(radius.value())
+                        }
+                        _ => f64::NAN,
+                    })
+                    .collect();
                 let road = rolling::Road::new(set);
-                Ok(sweep.on(
+                let mut runs = sweep.on(
                     &road,
                     RoadSummary::Asperities {
                         count,
                         warnings: Vec::new(),
                     },
                     None,
-                ))
+                );
+                sweep.warn_of_past_bounds(&mut runs, |stiffening| {
+                    PastCapTally::from_bounds(equators.clone(), stiffening, PastShape::Equators)
+                });
+                Ok(runs)
             }
             (true, Some(synth)) => {
                 let road = synth.road().sphere_road(material)?;
                 let count = road.len();
-                Ok(sweep.on(
+                let mut runs = sweep.on(
                     &road,
                     RoadSummary::Synthetic {
                         count,
                         warnings: Vec::new(),
                     },
                     None,
-                ))
+                );
+                sweep.warn_of_past_bounds(&mut runs, |stiffening| {
+                    PastCapTally::new(&road, stiffening, PastShape::Equators)
+                });
+                Ok(runs)
             }
             _ => Err(ScenarioError::Invalid(
                 "no road, or two: give [[asperity]] entries or [rolling.synthetic_road]".into(),
@@ -684,6 +690,28 @@ struct Sweep<'a> {
 }
 
 impl Sweep<'_> {
+    /// Each case's contacts pressed past their laws' bounds (caps,
+    /// equators), counted on `tally(stiffening)` and warned of in its road
+    /// summary. The laws are at `[material]`'s modulus and the tread at
+    /// most its instantaneous modulus stiffer: `stiffening = E₀/E`
+    /// (docs/viscoelastic.md). A case whose series does not shift to its
+    /// temperature failed in its run already.
+    fn warn_of_past_bounds(
+        &self,
+        runs: &mut [Result<RollingRun, ScenarioError>],
+        tally: impl Fn(f64) -> PastCapTally,
+    ) {
+        for (run, case) in runs.iter_mut().zip(self.cases) {
+            if let Ok(run) = run
+                && let Ok(tread) = self.visco.at(self.series, case.temperature)
+            {
+                let stiffening = tread.instantaneous() / self.material.youngs_modulus();
+                let warning = tally(stiffening).warning_over(&run.result.steps);
+                run.road.warnings_mut().extend(warning);
+            }
+        }
+    }
+
     /// One run per case on `road`, each step coupled by `coupling` when
     /// given.
     fn on<L: ContactLaw + Sync>(
