@@ -160,8 +160,9 @@ pub struct StaticSolve {
     pub depths: Vec<Vec<f64>>,
 }
 
-/// A warning for each pair of `overlapping` contacts where one summit lies
-/// inside the other's contact patch (`r < max(a_i, a_j)`): the point
+/// The warning of one load whose `overlapping` contacts hold a pair where
+/// one summit lies inside the other's contact patch (`r < max(a_i, a_j)`),
+/// naming the closest such pair: the point
 /// kernel `1/(π E* r)` between them then stands for a displacement that no
 /// pressure spread over the patch gives (it grows without bound as `r → 0`,
 /// where the patch's own displacement stays finite), so the pair's forces
@@ -176,13 +177,14 @@ fn summits_inside_patches(
     ids: &[u32],
 ) -> Option<String> {
     const NAMED: usize = 3;
-    let inside: Vec<(usize, usize, f64)> = overlapping
+    let mut inside: Vec<(usize, usize, f64)> = overlapping
         .iter()
         .filter_map(|&(i, j)| {
             let r = (positions[i][0] - positions[j][0]).hypot(positions[i][1] - positions[j][1]);
             (r < contacts[i].radius.max(contacts[j].radius)).then_some((i, j, r))
         })
         .collect();
+    inside.sort_by(|a, b| a.2.total_cmp(&b.2));
     let (i, j, r) = *inside.first()?;
     let more = if inside.len() > 1 {
         format!(
