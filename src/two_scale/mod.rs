@@ -229,6 +229,12 @@ impl std::fmt::Display for LocalStatus {
                 "contact still at the edge of the widest local grid \
                  (half-width {half_width:.3} × the Hertz radius): area cut by the edge"
             ),
+            // A tile of a split flat top has its floor level with its
+            // summit: "-0.000 mm below" said nothing.
+            Self::PressedToFloor { depth } if *depth < 0.5e-6 => f.write_str(
+                "on a flat top, the surface around it level with its summit: \
+                 contact on it reaches the edge of the local grid, area cut by the edge",
+            ),
             Self::PressedToFloor { depth } => write!(
                 f,
                 "pressed down to the surface {:.3} mm below the summit: \
@@ -556,6 +562,19 @@ mod tests {
         assert!((total - 1.5).abs() < 1e-15);
         assert_eq!(out.first().map(|o| o.0), Some(0));
         assert_eq!(out.last().map(|o| o.0), Some(3));
+    }
+
+    /// Regression (2026-11-30): a porous-asphalt tile's floor, level with
+    /// its summit, was said as "-0.000 mm below the summit".
+    #[test]
+    fn a_floor_level_with_the_summit_is_said_as_a_flat_top() {
+        let level = LocalStatus::PressedToFloor { depth: -1e-12 }.to_string();
+        assert!(level.starts_with("on a flat top"), "{level}");
+        let deep = LocalStatus::PressedToFloor { depth: 0.3e-3 }.to_string();
+        assert!(
+            deep.starts_with("pressed down to the surface 0.300 mm below"),
+            "{deep}"
+        );
     }
 
     #[test]
