@@ -26,7 +26,7 @@ use crate::scenario::{Scenario, SynthSpec, TextureSpec};
 use crate::shared::{Field, Grid, Par};
 use crate::texture::HeightMap;
 
-use super::run_scenario::cut_to_stretch;
+use super::run_scenario::{cut_to_stretch, texture_of};
 use super::{BemRollingError, BemRollingOptions, BemRollingResult, Stretch, roll_bem};
 
 /// How the finer road was made.
@@ -235,11 +235,7 @@ pub fn run_grid_convergence(
     par: Par,
     options: &BemRollingOptions,
 ) -> Result<GridConvergence, BemRollingError> {
-    let Some(texture) = scenario.texture.as_ref() else {
-        return Err(BemRollingError::InvalidInput(
-            "the grid convergence check needs a scenario with a [texture]".into(),
-        ));
-    };
+    let texture = texture_of(&scenario, "the grid convergence check")?;
     let (coarse, fine, refinement) = refined_texture_fields(texture, base_dir, factor)?;
     cut_to_stretch(&mut scenario, stretch)?;
     let config = scenario.rolling_config()?;

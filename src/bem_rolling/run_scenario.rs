@@ -10,7 +10,9 @@ use crate::fidelity::rolling_fields::{
 use crate::fidelity::{Fidelity, FidelityError};
 use crate::rolling::{self, RollingConfig, RollingResult};
 use crate::scenario::units::Length;
-use crate::scenario::{RollingRun, RunOptions, Scenario, ScenarioResult, run_calibrated_fields};
+use crate::scenario::{
+    RollingRun, RunOptions, Scenario, ScenarioResult, TextureSpec, run_calibrated_fields,
+};
 use crate::shared::spectrum::MIN_SPECTRUM_SAMPLES;
 use crate::shared::{Field, Par};
 use crate::texture::HeightMap;
@@ -135,11 +137,7 @@ pub fn run_scenario_comparison_against(
     options: &BemRollingOptions,
     saved: Option<BemRollingResult>,
 ) -> Result<BemRollingRun, BemRollingError> {
-    let Some(texture) = scenario.texture.as_ref() else {
-        return Err(BemRollingError::InvalidInput(
-            "the BEM rolling reference needs a scenario with a [texture]".into(),
-        ));
-    };
+    let texture = texture_of(&scenario, "the BEM rolling reference")?;
     let map = texture.height_map(base_dir)?;
     let (segment, reference_force) = cut_to_stretch(&mut scenario, stretch)?;
     check_spectral_stretch(&scenario, segment)?;
@@ -248,6 +246,16 @@ pub fn run_scenario_comparison_against(
     })
 }
 
+/// `scenario`'s `[texture]`, or the error that `what` needs one.
+pub(super) fn texture_of<'s>(
+    scenario: &'s Scenario,
+    what: &str,
+) -> Result<&'s TextureSpec, BemRollingError> {
+    scenario.texture.as_ref().ok_or_else(|| {
+        BemRollingError::InvalidInput(format!("{what} needs a scenario with a [texture]"))
+    })
+}
+
 /// [`BemReference::of`] a scenario's BEM rolling run, read before any
 /// solve (the texture's height map, the material, the rolling
 /// configuration): what `cargo xtask rolling-bem --bem-from` checks saved
@@ -262,11 +270,7 @@ pub fn scenario_bem_reference(
     base_dir: &Path,
     options: &BemRollingOptions,
 ) -> Result<BemReference, BemRollingError> {
-    let Some(texture) = scenario.texture.as_ref() else {
-        return Err(BemRollingError::InvalidInput(
-            "the BEM rolling reference needs a scenario with a [texture]".into(),
-        ));
-    };
+    let texture = texture_of(scenario, "the BEM rolling reference")?;
     let map = texture.height_map(base_dir)?;
     Ok(BemReference::of(
         &map,
@@ -289,9 +293,7 @@ fn cap_run(
     segment: Option<usize>,
     bem: &BemRollingResult,
 ) -> Result<(Vec<Vec<f64>>, RollingComparison), BemRollingError> {
-    let texture = scenario.texture.as_ref().ok_or_else(|| {
-        BemRollingError::InvalidInput("the BEM rolling reference needs a [texture]".into())
-    })?;
+    let texture = texture_of(scenario, "the BEM rolling reference")?;
     let material = scenario.material()?;
     let troad = texture_road(map, material, &texture.road_options())
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;
@@ -346,9 +348,7 @@ fn summit_gap_run(
     config: &RollingConfig,
     par: Par,
 ) -> Result<RollingResult, BemRollingError> {
-    let texture = scenario.texture.as_ref().ok_or_else(|| {
-        BemRollingError::InvalidInput("the BEM rolling reference needs a [texture]".into())
-    })?;
+    let texture = texture_of(scenario, "the BEM rolling reference")?;
     let material = scenario.material()?;
     let road = texture_road(map, material, &texture.road_options())
         .map_err(|e| BemRollingError::InvalidInput(format!("texture road: {e}")))?;

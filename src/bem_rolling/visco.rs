@@ -24,7 +24,7 @@ use crate::scenario::Scenario;
 use crate::shared::{Field, Par};
 use crate::viscoelastic::{Prony, TreadMemory, ViscoError};
 
-use super::run_scenario::texture_field;
+use super::run_scenario::{texture_field, texture_of};
 use super::{
     BemRollingError, BemRollingOptions, BemRollingResult, Stretch, effective_surface, failed_step,
     locate, record_step, shift_pressure, solve_step, window_layout,
@@ -165,11 +165,7 @@ pub fn roll_visco_bem_scenario(
     par: Par,
     options: &BemRollingOptions,
 ) -> Result<BemRollingResult, BemRollingError> {
-    let Some(texture) = scenario.texture.as_ref() else {
-        return Err(BemRollingError::InvalidInput(
-            "the viscoelastic BEM rolling reference needs a scenario with a [texture]".into(),
-        ));
-    };
+    let texture = texture_of(scenario, "the viscoelastic BEM rolling reference")?;
     let elastic = scenario.material()?;
     if (elastic.poisson_ratio() - material.poisson_ratio()).abs() > 1e-12 {
         return Err(BemRollingError::InvalidInput(format!(

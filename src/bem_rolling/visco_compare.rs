@@ -17,7 +17,7 @@ use crate::scenario::{RollingRun, RunOptions, Scenario, ViscoCase};
 use crate::shared::Par;
 use crate::viscoelastic::Prony;
 
-use super::run_scenario::{check_spectral_stretch, cut_to_stretch, texture_field};
+use super::run_scenario::{check_spectral_stretch, cut_to_stretch, texture_field, texture_of};
 use super::{
     BemRollingError, BemRollingOptions, BemRollingResult, RollingComparison, Stretch, compare,
     roll_visco_bem,
@@ -65,11 +65,7 @@ pub fn run_visco_scenario_comparison(
     par: Par,
     options: &BemRollingOptions,
 ) -> Result<ViscoBemRollingRun, BemRollingError> {
-    let Some(texture) = scenario.texture.as_ref() else {
-        return Err(BemRollingError::InvalidInput(
-            "the viscoelastic BEM rolling comparison needs a scenario with a [texture]".into(),
-        ));
-    };
+    let texture = texture_of(&scenario, "the viscoelastic BEM rolling comparison")?;
     let map = texture.height_map(base_dir)?;
     let Some(tread) = scenario.viscoelastic_material(base_dir)? else {
         return Err(BemRollingError::InvalidInput(

@@ -222,8 +222,8 @@ pub(crate) fn rolling_on_uncalibrated_road(
             options,
             what,
         )?;
-        warn_of_past_bounds(&mut rolled, || {
-            PastCapTally::new(&road, 1.0, PastShape::Caps)
+        warn_over(&mut rolled, |steps| {
+            PastCapTally::new(&road, 1.0, PastShape::Caps).warning_over(steps)
         });
         return Ok(rolled);
     }
@@ -231,17 +231,10 @@ pub(crate) fn rolling_on_uncalibrated_road(
         (false, None) => {
             let set = scenario.asperity_set()?;
             let count = set.len();
-            // Each ball's radius and its law's force at its equator (no
-            // bound for other shapes), before the set moves into the road.
-            let balls: Vec<f64> = (0..count)
-                .map(|k| match scenario.shape_of(k) {
-                    Ok(super::ShapeSpec::Sphere { radius, .. }) => radius.value(),
-                    _ => f64::NAN,
-                })
-                .collect();
-            let equators: Vec<f64> = (balls.iter().zip(set.laws()))
-                .map(|(&r, law)| if r.is_nan() { r } else { law.force(r) })
-                .collect();
+            // The balls' bounds and summits, before the set moves into the
+            // road.
+            let balls = scenario.ball_radii();
+            let past_equators = PastCapTally::at_equators(&balls, set.laws(), 1.0);
             let positions = set.positions().to_vec();
             let mut rolled = run_on(
                 scenario,
@@ -255,14 +248,11 @@ pub(crate) fn rolling_on_uncalibrated_road(
                 options,
                 what,
             )?;
-            warn_of_past_bounds(&mut rolled, || {
-                PastCapTally::from_bounds(equators, 1.0, PastShape::Equators)
-            });
+            warn_over(&mut rolled, |steps| past_equators.warning_over(steps));
             let name = |k: usize| format!("[[asperity]] #{}", k + 1);
-            warn_of_summits_inside_patches(
-                &mut rolled,
-                InsidePatchTally::new((&positions, &balls), material.reduced_modulus(), &name),
-            );
+            let inside =
+                InsidePatchTally::new((&positions, &balls), material.reduced_modulus(), &name);
+            warn_over(&mut rolled, |steps| inside.warning_over(steps));
             Ok(rolled)
         }
         (true, Some(synth)) => {
@@ -329,19 +319,17 @@ pub(crate) fn rolling_on_uncalibrated_road(
                         options,
                         what,
                     )?;
-                    warn_of_past_bounds(&mut rolled, || {
-                        PastCapTally::new(&road, 1.0, PastShape::Equators)
+                    warn_over(&mut rolled, |steps| {
+                        PastCapTally::new(&road, 1.0, PastShape::Equators).warning_over(steps)
                     });
                     let balls: Vec<f64> = (0..count).map(|i| road.summit_radius(i)).collect();
                     let name = |k: usize| format!("summit {k} of the synthetic road");
-                    warn_of_summits_inside_patches(
-                        &mut rolled,
-                        InsidePatchTally::new(
-                            (road.positions(), &balls),
-                            material.reduced_modulus(),
-                            &name,
-                        ),
+                    let inside = InsidePatchTally::new(
+                        (road.positions(), &balls),
+                        material.reduced_modulus(),
+                        &name,
                     );
+                    warn_over(&mut rolled, |steps| inside.warning_over(steps));
                     Ok(rolled)
                 }
             }
@@ -355,20 +343,11 @@ pub(crate) fn rolling_on_uncalibrated_road(
     }
 }
 
-/// When `rolled` is a whole run: its contacts counted on `tally` (made
-/// only then) and the warning, if any, added to its road's summary.
-fn warn_of_past_bounds(rolled: &mut Rolled, tally: impl FnOnce() -> PastCapTally) {
+/// When `rolled` is a whole run: `warning(its steps)` (a tally of its
+/// records, made only then), if any, added to its road's summary.
+fn warn_over(rolled: &mut Rolled, warning: impl FnOnce(&[rolling::StepRecord]) -> Option<String>) {
     if let Rolled::Run(run) = rolled {
-        let warning = tally().warning_over(&run.result.steps);
-        run.road.warnings_mut().extend(warning);
-    }
-}
-
-/// When `rolled` is a whole run: the warning of [`InsidePatchTally`], if
-/// any, added to its road's summary.
-fn warn_of_summits_inside_patches(rolled: &mut Rolled, tally: InsidePatchTally<'_>) {
-    if let Rolled::Run(run) = rolled {
-        let warning = tally.warning_over(&run.result.steps);
+        let warning = warning(&run.result.steps);
         run.road.warnings_mut().extend(warning);
     }
 }
@@ -417,13 +396,14 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     options: &RunOptions<'_>,
     what: What,
 ) -> Result<Rolled, ScenarioError> {
+    let config = scenario.rolling_config()?;
     match &mut summary {
-        RoadSummary::Texture(t) => t.warn_of_footprint_off_map(&scenario.rolling_config()?),
+        RoadSummary::Texture(t) => t.warn_of_footprint_off_map(&config),
         RoadSummary::Synthetic { warnings, .. } => {
             if let Some(synth) = &spec.synthetic_road {
                 let g = synth.road();
                 warnings.extend(footprint_off_road(
-                    &scenario.rolling_config()?,
+                    &config,
                     ((g.length, g.width), (g.min_spacing, g.min_spacing)),
                     ("synthetic road", "give a longer or wider road"),
                 ));
@@ -438,7 +418,6 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
         };
         return Ok(Rolled::Road(summary, Box::new(summits)));
     }
-    let config = scenario.rolling_config()?;
     let checkpoint = options
         .checkpoint_dir
         .as_deref()

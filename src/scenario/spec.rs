@@ -633,6 +633,18 @@ impl Scenario {
         })
     }
 
+    /// Each `[[asperity]]`'s ball radius (m), NaN for one of another
+    /// shape: the bound its law holds to (a ball's equator) and the patch
+    /// its summit spreads (Hertz), for the runs' warnings.
+    pub(crate) fn ball_radii(&self) -> Vec<f64> {
+        (0..self.asperities.len())
+            .map(|k| match self.shape_of(k) {
+                Ok(ShapeSpec::Sphere { radius, .. }) => radius.value(),
+                _ => f64::NAN,
+            })
+            .collect()
+    }
+
     /// The shape of asperity `k` (0-based): its own or the default one.
     pub fn shape_of(&self, k: usize) -> Result<&ShapeSpec> {
         self.asperities

@@ -7,7 +7,7 @@ use tyreroad_multipoint::{
     Control, Problem, Solution, SolveError, SolverOptions, overlapping_contacts, solve,
 };
 
-use super::{Scenario, ScenarioError, ShapeSpec};
+use super::{Scenario, ScenarioError};
 
 /// One asperity at one load.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -120,18 +120,11 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
     // A ball pressed past its equator (or given a contact wider than
     // itself by its law's local rule): its cap goes on as a cylinder, and
     // Hertz's small-contact picture ended long before.
-    let radii: Vec<Option<f64>> = (0..ids.len())
-        .map(|k| match scenario.shape_of(k) {
-            Ok(ShapeSpec::Sphere { radius, .. }) => Some(radius.value()),
-            _ => None,
-        })
-        .collect();
+    let radii = scenario.ball_radii();
     for (run, depths) in result.runs.iter().zip(&solved.depths) {
         let rows = result.rows.iter().filter(|row| row.load == run.load);
-        for (((row, &id), radius), &depth) in rows.zip(&ids).zip(&radii).zip(depths) {
-            if let Some(r) = *radius
-                && (depth > r || row.radius > r)
-            {
+        for (((row, &id), &r), &depth) in rows.zip(&ids).zip(&radii).zip(depths) {
+            if r.is_finite() && (depth > r || row.radius > r) {
                 result.warnings.push(format!(
                     "load {} N, asperity {id}: a ball of radius {:.3} mm pressed {:.3} mm deep, \
                      its contact radius {:.3} mm: a contact wider than the ball, or past its \

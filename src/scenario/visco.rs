@@ -634,15 +634,7 @@ impl Scenario {
             (false, None) => {
                 let set = self.asperity_set()?;
                 let count = set.len();
-                // Each ball's law force at its equator (NaN: not a ball).
-                let equators: Vec<f64> = (0..count)
-                    .map(|k| match self.shape_of(k) {
-                        Ok(super::ShapeSpec::Sphere { radius, .. }) => {
-                            set.laws()[k].force(radius.value())
-                        }
-                        _ => f64::NAN,
-                    })
-                    .collect();
+                let balls = self.ball_radii();
                 let road = rolling::Road::new(set);
                 let mut runs = sweep.on(
                     &road,
@@ -653,7 +645,7 @@ impl Scenario {
                     None,
                 );
                 sweep.warn_of_past_bounds(&mut runs, |stiffening| {
-                    PastCapTally::from_bounds(equators.clone(), stiffening, PastShape::Equators)
+                    PastCapTally::at_equators(&balls, road.laws(), stiffening)
                 });
                 Ok(runs)
             }

@@ -106,6 +106,24 @@ impl PastCapTally {
         Self::from_bounds(at_depth, stiffening, shape)
     }
 
+    /// A tally of balls: `radii[id]` each asperity's ball radius (m; NaN
+    /// for another shape, which gets no bound) and `laws[id]` its law,
+    /// bounded by its force at the equator.
+    pub fn at_equators<L: ContactLaw>(radii: &[f64], laws: &[L], stiffening: f64) -> Self {
+        let at_equator = radii
+            .iter()
+            .zip(laws)
+            .map(|(&r, law)| {
+                if r.is_finite() {
+                    law.force(r)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
+        Self::from_bounds(at_equator, stiffening, PastShape::Equators)
+    }
+
     /// A tally of the bounds `at_depth[id]`: each asperity's law force at
     /// the depth its shape is described to (N; NaN or 0: no bound), by its
     /// id on the whole road.

@@ -96,21 +96,19 @@ pub fn run(args: &RollingBemArgs) -> Result<()> {
     };
     // Saved signals are checked against this scenario before anything is
     // solved: a BEM run of another road, load or tread is refused.
-    let reference = if args.bem_from.is_some() || args.bem_check.is_some() {
-        Some(scenario_bem_reference(&scenario, base, &options)?)
+    let (saved, check) = if args.bem_from.is_some() || args.bem_check.is_some() {
+        let reference = scenario_bem_reference(&scenario, base, &options)?;
+        let read = |dir: Option<&Path>, saved_as| {
+            dir.map(|dir| crate::rolling_bem_saved::read(dir, &scenario, (&reference, saved_as)))
+                .transpose()
+        };
+        (
+            read(args.bem_from.as_deref(), SavedAs::SameRun)?,
+            read(args.bem_check.as_deref(), SavedAs::Check)?,
+        )
     } else {
-        None
+        (None, None)
     };
-    let read_saved = |dir: &Path, saved_as| -> Result<_> {
-        let reference = reference.as_ref().context("the reference was read above")?;
-        crate::rolling_bem_saved::read(dir, &scenario, (reference, saved_as))
-    };
-    let saved = (args.bem_from.as_deref())
-        .map(|dir| read_saved(dir, SavedAs::SameRun))
-        .transpose()?;
-    let check = (args.bem_check.as_deref())
-        .map(|dir| read_saved(dir, SavedAs::Check))
-        .transpose()?;
     let spectra = scenario.rolling.as_ref().map_or((args.segment, 1.0), |r| {
         (
             args.segment.or(r.segment),
