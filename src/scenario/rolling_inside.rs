@@ -148,7 +148,8 @@ mod tests {
         let (i, j, r, a) = inside[0];
         assert_eq!((i, j), (0, 1));
         assert!((r - 1e-6).abs() < 1e-12);
-        assert!((a - (0.75f64 * 5e-3 / 8.72e6).cbrt()).abs() < 1e-6, "{a}");
+        // Hertz by hand: (3 · 1 N · 5 mm / (4 · 8.72 MPa))^(1/3) = 0.75481 mm.
+        assert!((a - 0.75481e-3).abs() < 1e-8, "{a}");
         // 2 mm apart under 1 N each, and a non-ball beside: nothing.
         assert!(tally.inside(&step(vec![2, 3], vec![1.0, 1.0])).is_empty());
         let warning = tally
