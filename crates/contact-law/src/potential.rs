@@ -118,6 +118,10 @@ impl Ramp {
 /// scanning for ramps.
 const SCAN_SAMPLES: usize = 8;
 
+/// The width, relative to the samples' spacing, below which the search for
+/// a dip of the stiffness margin between two samples stops.
+const MINIMUM_BRACKET: f64 = 1e-7;
+
 impl<G: CapGeometry> PotentialLaw<G> {
     /// The law of `geometry` with shape constant `constant` (`c`) and the
     /// local rule `rule`.
@@ -314,14 +318,19 @@ impl<G: CapGeometry> PotentialLaw<G> {
     }
 
     /// The depth of the smallest stiffness margin in `[lo, hi]`, by
-    /// golden-section search (enough for a dip between two samples).
+    /// golden-section search (enough for a dip between two samples). It
+    /// stops at the first negative margin, or once the bracket is
+    /// [`MINIMUM_BRACKET`] of its first width: a soft stretch narrower than
+    /// that would carry a ramp of no consequence, and most searches are of
+    /// pieces with no dip at all, where every further step is spent.
     fn margin_minimum(&self, mut lo: f64, mut hi: f64) -> f64 {
         const R: f64 = 0.618_033_988_749_895;
         let m = |t: f64| self.stiffness_margin(t);
+        let smallest = MINIMUM_BRACKET * (hi - lo);
         let (mut c, mut d) = (hi - R * (hi - lo), lo + R * (hi - lo));
         let (mut mc, mut md) = (m(c), m(d));
         for _ in 0..60 {
-            if mc < 0.0 || md < 0.0 {
+            if mc < 0.0 || md < 0.0 || hi - lo < smallest {
                 break;
             }
             if mc <= md {
