@@ -27,9 +27,12 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::asperity::{CapGeometry, TabulatedCap};
 use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
+use crate::shared::{Par, is_parallel, run_at};
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
     asperity_cap, segment, split_wide_tops,
@@ -100,6 +103,9 @@ pub struct TextureRoadOptions {
     /// wider, one asperity each (`tyreroad_texture::split_wide_tops`: the
     /// ground-flat plateaus of a porous asphalt); `None` keeps the basins.
     pub max_cap_width: Option<f64>,
+    /// Parallelism of the per-asperity cap tables and laws (each is its
+    /// basin's own: the road does not depend on it).
+    pub par: Par,
 }
 
 impl TextureRoadOptions {
@@ -113,6 +119,7 @@ impl TextureRoadOptions {
             nodes: CapOptions::default().nodes,
             depth: CapDepth::BasinBottom,
             max_cap_width: None,
+            par: Par::Seq,
         }
     }
 }
@@ -173,13 +180,12 @@ pub fn texture_road(
         None => seg,
     };
     let n = seg.asperities().len();
-    let mut positions = Vec::with_capacity(n);
-    let mut heights = Vec::with_capacity(n);
-    let mut laws = Vec::with_capacity(n);
-    let mut asperity_index = Vec::with_capacity(n);
-    for (k, a) in seg.asperities().iter().enumerate() {
+    // Each basin's table and law (the ramp scan of a many-piece table is
+    // the dear part), `None` for an asperity without a depth range: it is
+    // dropped (module invariants).
+    let law_of = |k: usize| -> Result<Option<TextureLaw>, TextureRoadError> {
         let max_depth = match opts.depth {
-            CapDepth::BasinBottom => basin_depth(a),
+            CapDepth::BasinBottom => basin_depth(&seg.asperities()[k]),
             CapDepth::GridCapRange => None,
             CapDepth::Fixed(d) => Some(d),
         };
@@ -187,17 +193,31 @@ pub fn texture_road(
             nodes: opts.nodes,
             max_depth,
         };
-        // An asperity without a depth range is dropped (module invariants).
         let Ok(table) = asperity_cap(map, &seg, k, &cap) else {
-            continue;
+            return Ok(None);
         };
-        let law = PotentialLaw::new(
+        PotentialLaw::new(
             Arc::new(table),
             material,
             opts.constant,
             LocalRule::HalfSection,
         )
-        .map_err(|source| TextureRoadError::Law { index: k, source })?;
+        .map(Some)
+        .map_err(|source| TextureRoadError::Law { index: k, source })
+    };
+    let built: Vec<Result<Option<TextureLaw>, TextureRoadError>> = if is_parallel(opts.par) {
+        run_at(opts.par, || (0..n).into_par_iter().map(law_of).collect())
+    } else {
+        (0..n).map(law_of).collect()
+    };
+    let mut positions = Vec::with_capacity(n);
+    let mut heights = Vec::with_capacity(n);
+    let mut laws = Vec::with_capacity(n);
+    let mut asperity_index = Vec::with_capacity(n);
+    for (k, (a, law)) in seg.asperities().iter().zip(built).enumerate() {
+        let Some(law) = law? else {
+            continue;
+        };
         positions.push(a.summit);
         heights.push(a.summit_height);
         laws.push(law);
@@ -496,6 +516,37 @@ mod tests {
         assert!((s.total_force() - load).abs() < 1e-6 * load);
         assert!(s.forces.iter().all(|&f| f >= 0.0));
         assert!(s.forces[0] >= s.forces[3], "{:?}", s.forces);
+    }
+
+    /// Each basin's table and law is its own: built on two threads, the
+    /// road is the one built on one, law for law (tables and ramps), in
+    /// the same order, with the same asperities dropped.
+    #[test]
+    fn the_road_built_in_parallel_is_the_sequential_one() {
+        let (balls, _) = balls();
+        // The balls on a rough, tilted floor: many small basins, some of
+        // them without a depth range.
+        let map = HeightMap::from_fn(240, 240, 1e-4, 1e-4, |x, y| {
+            let floor = 2e-5 * ((x * 7e3).sin() * (y * 5e3).cos()) + 0.01 * x;
+            let (i, j) = ((x / 1e-4).round() as usize, (y / 1e-4).round() as usize);
+            balls.get(i, j).unwrap_or(0.0).max(floor)
+        })
+        .unwrap();
+        let material = Material::new(6.54e6, 0.5).unwrap();
+        let seq = TextureRoadOptions::new(1e-5, 1e-8);
+        let par = TextureRoadOptions {
+            par: Par::rayon(2),
+            ..seq
+        };
+        let a = texture_road(&map, material, &seq).unwrap();
+        let b = texture_road(&map, material, &par).unwrap();
+        assert!(a.len() > 4, "{} asperities", a.len());
+        assert_eq!(a.asperity_index, b.asperity_index);
+        assert_eq!(a.set.positions(), b.set.positions());
+        assert_eq!(a.set.heights(), b.set.heights());
+        for (k, (la, lb)) in a.set.laws().iter().zip(b.set.laws()).enumerate() {
+            assert_eq!(format!("{la:?}"), format!("{lb:?}"), "law {k}");
+        }
     }
 
     /// Balls at columns 60 and 180 of 0.1 mm cells: blocks 0 and 2 of 64

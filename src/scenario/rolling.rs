@@ -210,7 +210,11 @@ pub(crate) fn rolling_on_uncalibrated_road(
                 }
             };
         }
-        let (set, summary, radii) = rolling_texture_road_set(texture, &options.base_dir, material)?;
+        let par = options
+            .par
+            .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+        let (set, summary, radii) =
+            rolling_texture_road_set(texture, &options.base_dir, material, par)?;
         // Gaps at each cap's contact point, not its summit.
         let road = rolling_road(set, radii, summary.top)?;
         let mut rolled = roll_road(

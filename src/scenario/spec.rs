@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::Deserialize;
 use tyreroad_asperity::{Cone, EllipticParaboloid, Sphere};
 use tyreroad_contact_law::{C_CONE, C_SPHERE, ContactLaw, LocalRule, Material, PotentialLaw};
-use tyreroad_multipoint::{AsperitySet, Problem, SolverOptions};
+use tyreroad_multipoint::{AsperitySet, Par, Problem, SolverOptions};
 use tyreroad_texture::{Aggregate, ChipShape, HeightMap, SelfAffine, roads};
 
 use super::ScenarioError;
@@ -555,8 +555,9 @@ impl Scenario {
             .texture
             .as_ref()
             .ok_or_else(|| ScenarioError::Invalid("no [texture] section".into()))?;
+        let material = self.material()?;
         let (set, summary, radii) =
-            super::texture::rolling_texture_road_set(texture, base_dir, self.material()?)?;
+            super::texture::rolling_texture_road_set(texture, base_dir, material, Par::Seq)?;
         Ok(crate::texture_road::rolling_road(set, radii, summary.top)?)
     }
 

@@ -21,8 +21,8 @@ use crate::fidelity::{
     calibrated_set_or_wilke, solve_calibrated,
 };
 use crate::texture_road::{
-    PastCap, TextureLaw, TextureRoad, TextureRoadError, pressed_past_caps, rolling_road,
-    texture_road,
+    PastCap, TextureLaw, TextureRoad, TextureRoadError, TextureRoadOptions, pressed_past_caps,
+    rolling_road, texture_road,
 };
 use crate::two_scale::{TwoScale, TwoScaleError, TwoScaleOptions, two_scale};
 
@@ -330,7 +330,7 @@ pub(crate) fn run_texture_static(
     let loads = static_loads(scenario)?;
     let map = Arc::new(texture.height_map(base_dir)?);
     let material = scenario.material()?;
-    let road = scenario_road(&map, material, texture)?;
+    let road = scenario_road(&map, material, texture, scenario.solver_options().par)?;
     let mut summary = TextureSummary::new(&map, &road);
     let shapes = road.local_shapes(&map)?;
     let positions = road.set.positions().to_vec();
@@ -511,8 +511,13 @@ pub(super) fn scenario_road(
     map: &HeightMap,
     material: Material,
     texture: &TextureSpec,
+    par: tyreroad_multipoint::Par,
 ) -> Result<TextureRoad, ScenarioError> {
-    texture_road(map, material, &texture.road_options()).map_err(|e| match e {
+    let options = TextureRoadOptions {
+        par,
+        ..texture.road_options()
+    };
+    texture_road(map, material, &options).map_err(|e| match e {
         TextureRoadError::NoAsperity { segmented } => ScenarioError::Value {
             key: "[texture] min_prominence, min_area (and the map's size)".into(),
             value: format!(
@@ -538,9 +543,10 @@ pub(crate) fn texture_road_set(
     texture: &TextureSpec,
     base_dir: &Path,
     material: Material,
+    par: tyreroad_multipoint::Par,
 ) -> Result<(AsperitySet<TextureLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
-    let road = scenario_road(&map, material, texture)?;
+    let road = scenario_road(&map, material, texture, par)?;
     let summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
     Ok((centred_on_mid_width(road.set, &map)?, summary, radii))
@@ -568,9 +574,10 @@ pub(crate) fn rolling_texture_road_set(
     texture: &TextureSpec,
     base_dir: &Path,
     material: Material,
+    par: tyreroad_multipoint::Par,
 ) -> Result<(AsperitySet<TextureLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let map = texture.height_map(base_dir)?;
-    let road = scenario_road(&map, material, texture)?;
+    let road = scenario_road(&map, material, texture, par)?;
     let summary = TextureSummary::new(&map, &road);
     let (set, radii) = road.rolling_set()?;
     Ok((centred_on_mid_width(set, &map)?, summary, radii))
@@ -628,7 +635,7 @@ pub(crate) fn calibrated_texture_road_set_with(
 ) -> Result<(AsperitySet<CalibratedLaw>, TextureSummary, Vec<f64>), ScenarioError> {
     let material = *calibrator.material();
     let map = texture.height_map(base_dir)?;
-    let road = scenario_road(&map, material, texture)?;
+    let road = scenario_road(&map, material, texture, par)?;
     let mut summary = TextureSummary::new(&map, &road);
     let radii = road.summit_radii();
     let set = centred_on_mid_width(road.set.clone(), &map)?;

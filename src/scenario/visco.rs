@@ -621,7 +621,14 @@ impl Scenario {
                     .map(|c| c as &dyn rolling::StepCoupling<CalibratedLaw>);
                 return Ok(sweep.on(&road, RoadSummary::Texture(Box::new(summary)), coupling));
             }
-            let (set, summary, radii) = texture_road_set(texture, &options.base_dir, material)?;
+            let (set, summary, radii) = texture_road_set(
+                texture,
+                &options.base_dir,
+                material,
+                options
+                    .par
+                    .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0))),
+            )?;
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling_road(set, radii, summary.top)?;
             let mut runs = sweep.on(&road, RoadSummary::Texture(Box::new(summary)), None);
