@@ -149,20 +149,14 @@ fn a_run_that_fails_outright_says_what_looked_wrong_with_the_heights()
 #[test]
 fn summits_inside_each_others_contact_patch_are_warned_of() -> Result<(), Box<dyn std::error::Error>>
 {
-    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
-    let run = |dx: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
-        let text = format!(
-            "name = \"close\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
-             [default_shape]\nkind = \"sphere\"\nradius = \"5 mm\"\n[static]\nloads = [\"5 N\", \"50 N\"]\n\
-             [[asperity]]\nx = \"0 mm\"\ny = \"0 mm\"\n[[asperity]]\nx = \"{dx}\"\ny = \"0 mm\"\n\
-             [[asperity]]\nx = \"10 mm\"\ny = \"0 mm\"\n"
-        );
-        let ScenarioResult::Static(r) =
-            Scenario::parse(&text, "close")?.run(&RunOptions::default())?
-        else {
-            return Err("not a static run".into());
-        };
-        Ok(r.warnings)
+    let run = |dx: &str| {
+        static_warnings(
+            "kind = \"sphere\"\nradius = \"5 mm\"",
+            &format!(
+                "[[asperity]]\nx = \"0 mm\"\ny = \"0 mm\"\n[[asperity]]\nx = \"{dx}\"\ny = \"0 mm\"\n\
+                 [[asperity]]\nx = \"10 mm\"\ny = \"0 mm\"\n"
+            ),
+        )
     };
     let close = run("0.001 mm")?;
     assert_eq!(close.len(), 2, "{close:?}");
@@ -172,4 +166,64 @@ fn summits_inside_each_others_contact_patch_are_warned_of() -> Result<(), Box<dy
     );
     assert!(run("5 mm")?.is_empty());
     Ok(())
+}
+
+/// Cones at the ends of their half-angle range run, as the closed forms
+/// allow, but their answers are no road's: a needle's flank (1e-6°) is
+/// refused by the half-space's small slopes, and a cone of 89.999999°
+/// spreads one contact over metres, past every other summit. Both are
+/// warned of; cones of 60–85° on the same set are not.
+#[test]
+fn cones_at_the_ends_of_their_range_are_warned_of() -> Result<(), Box<dyn std::error::Error>> {
+    let run = |angle: &str| {
+        static_warnings(
+            &format!("kind = \"cone\"\nhalf_angle = \"{angle}\""),
+            "[[asperity]]\nx = \"0 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nx = \"10 mm\"\ny = \"0 mm\"\nheight = \"-0.1 mm\"\n",
+        )
+    };
+    let needle = run("0.000001 deg")?;
+    assert_eq!(needle.len(), 1, "{needle:?}");
+    assert!(
+        needle[0].starts_with("2 cone(s) with flanks steeper than 45°, the steepest asperity 1"),
+        "{needle:?}"
+    );
+    assert!(needle[0].contains("cot α = 5.730e7"), "{needle:?}");
+    let flat = run("89.999999 deg")?;
+    assert_eq!(flat.len(), 2, "{flat:?}");
+    for (w, load) in flat.iter().zip(["5", "50"]) {
+        assert!(
+            w.starts_with(&format!("load {load} N, asperity 1: a contact radius of ")),
+            "{flat:?}"
+        );
+        assert!(
+            w.contains("wider than the whole set of summits (10.0000 mm"),
+            "{w}"
+        );
+    }
+    for angle in ["60 deg", "85 deg"] {
+        assert!(run(angle)?.is_empty(), "{angle}");
+    }
+    // 44° is steep, 46° is not.
+    assert_eq!(run("44 deg")?.len(), 1);
+    assert!(run("46 deg")?.is_empty());
+    Ok(())
+}
+
+/// The warnings of a static run at 5 and 50 N on the rubber of the paper
+/// of asperities `asperities` (TOML) of default shape `shape` (TOML keys).
+fn static_warnings(
+    shape: &str,
+    asperities: &str,
+) -> Result<Vec<String>, Box<dyn std::error::Error>> {
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    let text = format!(
+        "name = \"static\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+         [default_shape]\n{shape}\n[static]\nloads = [\"5 N\", \"50 N\"]\n{asperities}"
+    );
+    let ScenarioResult::Static(r) = Scenario::parse(&text, "static")?.run(&RunOptions::default())?
+    else {
+        return Err("not a static run".into());
+    };
+    Ok(r.warnings)
 }

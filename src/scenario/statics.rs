@@ -7,7 +7,7 @@ use tyreroad_multipoint::{
     Control, Problem, Solution, SolveError, SolverOptions, overlapping_contacts, solve,
 };
 
-use super::{Scenario, ScenarioError};
+use super::{Scenario, ScenarioError, ShapeSpec};
 
 /// One asperity at one load.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -138,8 +138,77 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
             }
         }
     }
+    result.warnings.extend(steep_cones(scenario, &ids));
+    let extent = set_extent(problem.positions());
+    for run in &result.runs {
+        let widest = result
+            .rows
+            .iter()
+            .filter(|row| row.load == run.load)
+            .zip(&ids)
+            .max_by(|a, b| a.0.radius.total_cmp(&b.0.radius));
+        if let Some((row, id)) = widest
+            && row.radius > extent
+        {
+            result.warnings.push(format!(
+                "load {} N, asperity {id}: a contact radius of {:.4} mm, wider than the whole \
+                 set of summits ({:.4} mm from end to end): one contact covering every other \
+                 summit is no road's (a flatter shape than meant, or a much lighter load?)",
+                run.load,
+                row.radius * 1e3,
+                extent * 1e3
+            ));
+        }
+    }
     Ok(result)
 }
+
+/// The largest distance between two summits (m); infinite for fewer than
+/// two, where no contact can be wider than the set.
+fn set_extent(positions: &[[f64; 2]]) -> f64 {
+    let mut widest = 0.0f64;
+    for (k, a) in positions.iter().enumerate() {
+        for b in &positions[k + 1..] {
+            widest = widest.max((a[0] - b[0]).hypot(a[1] - b[1]));
+        }
+    }
+    if positions.len() < 2 {
+        f64::INFINITY
+    } else {
+        widest
+    }
+}
+
+/// Cones whose flanks are steeper than 45° (half-angle under
+/// [`STEEPEST_CONE`]): Sneddon's cone, and the half-space theory under
+/// every law here, take the surface's slopes as small, and a needle's
+/// `cot α` of thousands gives approaches of metres. One warning for all
+/// of them.
+fn steep_cones(scenario: &Scenario, ids: &[u32]) -> Option<String> {
+    let steep: Vec<(u32, f64)> = ids
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &id)| match scenario.shape_of(k) {
+            Ok(ShapeSpec::Cone { half_angle, .. }) if half_angle.value() < STEEPEST_CONE => {
+                Some((id, half_angle.value()))
+            }
+            _ => None,
+        })
+        .collect();
+    let &(id, alpha) = steep.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
+    Some(format!(
+        "{} cone(s) with flanks steeper than 45°, the steepest asperity {id} (half-angle \
+         {:.4e}°, flank slope cot α = {:.3e}): the half-space theory takes a surface's slopes \
+         as small, so such a cone's forces and approach are no road's (half-angles of 60–85° \
+         are a road's)",
+        steep.len(),
+        alpha.to_degrees(),
+        1.0 / alpha.tan()
+    ))
+}
+
+/// The half-angle (rad) under which a cone's flank is steeper than 45°.
+const STEEPEST_CONE: f64 = std::f64::consts::FRAC_PI_4;
 
 /// A static run with each load's local contacts (for pressure maps).
 #[derive(Clone, Debug)]
