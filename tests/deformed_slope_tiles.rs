@@ -15,18 +15,26 @@ type TestResult = Result<(), Box<dyn std::error::Error>>;
 const LOAD: f64 = 1500.0;
 
 fn tiles_scenario(slope: &str) -> String {
+    tiled_road("porous_asphalt", 520, ("64 mm", "67 mm"), "wilke", slope)
+}
+
+/// A tyre at [`LOAD`] on the chip-seal fixture's grid (`nx` columns) of
+/// road `kind` with its tops split into 5 mm tiles, from `path.0` to
+/// `path.1` in 1 mm steps.
+fn tiled_road(kind: &str, nx: usize, path: (&str, &str), fidelity: &str, slope: &str) -> String {
+    let (start, end) = path;
     format!(
-        "name = \"porous_tiles\"\n\
+        "name = \"tiles\"\n\
          [material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
-         [model]\nfidelity = \"wilke\"\n\
-         [rolling]\nstart = \"64 mm\"\nend = \"67 mm\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
+         [model]\nfidelity = \"{fidelity}\"\n\
+         [rolling]\nstart = \"{start}\"\nend = \"{end}\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
          margin = \"0 mm\"\nreference_force = \"1 N\"\ncheckpoint = false\n\
          contact_slope = \"{slope}\"\n\
          [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
          length = \"120 mm\"\nwidth = \"150 mm\"\n\
          [rolling.control]\nload = \"{LOAD} N\"\n\
          [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\nmax_cap_width = \"5 mm\"\n\
-         [texture.synth]\nkind = \"porous_asphalt\"\nnx = 520\nny = 600\nspacing = \"0.25 mm\"\n\
+         [texture.synth]\nkind = \"{kind}\"\nnx = {nx}\nny = 600\nspacing = \"0.25 mm\"\n\
          seed = 2006\n"
     )
 }
@@ -69,6 +77,54 @@ fn deformed_slopes_on_split_plateaus_settle_at_every_step() -> TestResult {
         assert!(p.is_finite() && d.is_finite() && *p > 0.0);
         assert!((p - d).abs() < 0.1 * p, "profile {p} vs deformed {d}");
         assert!((p - d).abs() > 1e-6 * p, "the slope changed nothing: {p}");
+    }
+    Ok(())
+}
+
+/// The exposed aggregate's 5 mm tiles (the chip-seal fixture's grid) from
+/// x = 113 mm: cold, the Wilke steps under the deformed slope do not settle
+/// (unloaded tiles beside a loaded one swing in and out of contact), and a
+/// calibrated run refused itself because those steps size its tables. The
+/// bound now falls back to the profile's Wilke steps, and the calibrated
+/// run rolls every step under the deformed slope (docs/validation.md,
+/// "The exposed aggregate with 5 mm tiles").
+#[test]
+fn a_calibrated_run_sizes_its_tables_where_the_deformed_wilke_steps_fail() -> TestResult {
+    let scenario = |fidelity: &str| {
+        tiled_road(
+            "exposed_aggregate",
+            1200,
+            ("113 mm", "116 mm"),
+            fidelity,
+            "deformed",
+        )
+    };
+    let dir = tempfile::tempdir()?;
+    let run = |fidelity: &str| -> Result<_, Box<dyn std::error::Error>> {
+        let s = Scenario::parse(&scenario(fidelity), fidelity)?;
+        let ScenarioResult::Rolling(run) = s.run(&RunOptions::new(dir.path()))? else {
+            return Err("not a rolling result".into());
+        };
+        Ok(run.result.steps)
+    };
+    // What the bound meets: every Wilke step fails cold.
+    let wilke = run("wilke")?;
+    assert_eq!(wilke.len(), 4);
+    assert!(
+        wilke.iter().all(|s| s.status == StepStatus::Failed),
+        "{wilke:?}"
+    );
+    let calibrated = run("calibrated")?;
+    assert_eq!(calibrated.len(), 4);
+    for step in &calibrated {
+        assert_eq!(step.status, StepStatus::Converged, "step {}", step.index);
+        assert!((step.total_force - LOAD).abs() < 1e-6 * LOAD);
+        // The profile's Wilke approach at these steps is 5.19-5.20 mm.
+        assert!(
+            step.approach > 4e-3 && step.approach < 6.5e-3,
+            "{}",
+            step.approach
+        );
     }
     Ok(())
 }
