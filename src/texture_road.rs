@@ -520,12 +520,12 @@ mod tests {
 
     /// Each basin's table and law is its own: built on two threads, the
     /// road is the one built on one, law for law (tables and ramps), in
-    /// the same order, with the same asperities dropped.
+    /// the same order, with the same basin behind each.
     #[test]
     fn the_road_built_in_parallel_is_the_sequential_one() {
         let (balls, _) = balls();
-        // The balls on a rough, tilted floor: many small basins, some of
-        // them without a depth range.
+        // The balls on a rough, tilted floor: hundreds of small basins,
+        // enough to spread over both threads.
         let map = HeightMap::from_fn(240, 240, 1e-4, 1e-4, |x, y| {
             let floor = 2e-5 * ((x * 7e3).sin() * (y * 5e3).cos()) + 0.01 * x;
             let (i, j) = ((x / 1e-4).round() as usize, (y / 1e-4).round() as usize);

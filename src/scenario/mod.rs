@@ -103,6 +103,13 @@ impl RunOptions<'_> {
             ..Self::default()
         }
     }
+
+    /// The parallelism of a rolling run: the caller's, else `[rolling]
+    /// threads` (0 or unset: every core).
+    pub(crate) fn rolling_par(&self, spec: &RollingSpec) -> Par {
+        self.par
+            .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)))
+    }
 }
 
 /// What a scenario run produced.

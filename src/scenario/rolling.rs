@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Duration;
 
 use tyreroad_contact_law::{ContactLaw, Material};
-use tyreroad_multipoint::{AsperitySet, Par};
+use tyreroad_multipoint::AsperitySet;
 use tyreroad_rolling as rolling;
 
 use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
@@ -210,9 +210,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
                 }
             };
         }
-        let par = options
-            .par
-            .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+        let par = options.rolling_par(spec);
         let (set, summary, radii) =
             rolling_texture_road_set(texture, &options.base_dir, material, par)?;
         // Gaps at each cap's contact point, not its summit.
@@ -432,9 +430,7 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
         });
     // The caller's parallelism, else the scenario's `threads` (0 or unset:
     // every core).
-    let par = options
-        .par
-        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+    let par = options.rolling_par(spec);
     let run_options = rolling::RunOptions {
         chunks: spec.chunks,
         checkpoint: checkpoint.as_ref(),

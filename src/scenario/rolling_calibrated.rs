@@ -7,7 +7,6 @@
 
 use std::time::Duration;
 
-use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 
 use super::rolling::{
@@ -147,9 +146,7 @@ fn calibrated_road(
     plan: &TablePlan,
 ) -> Result<(rolling::Road<CalibratedLaw>, RoadSummary), ScenarioError> {
     let config = scenario.rolling_config()?;
-    let par = options
-        .par
-        .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+    let par = options.rolling_par(spec);
     let (set, summary, radii) = calibrated_texture_road_set_with(
         texture,
         &options.base_dir,

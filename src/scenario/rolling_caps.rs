@@ -58,9 +58,7 @@ impl CapRecount {
         let material = scenario.material()?;
         let map = texture.height_map(&options.base_dir)?;
         let field = road_frame_field(&map).map_err(|e| refused(e.to_string()))?;
-        let par = options
-            .par
-            .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+        let par = options.rolling_par(spec);
         let road = super::texture::scenario_road(&map, material, texture, par)?;
         Ok(Some(Self {
             field,

@@ -121,9 +121,16 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
     // itself by its law's local rule): its cap goes on as a cylinder, and
     // Hertz's small-contact picture ended long before.
     let radii = scenario.ball_radii();
+    let extent = set_extent(problem.positions());
+    // Each load's contact wider than the whole set, said after the shapes'.
+    let mut too_wide = Vec::new();
     for (run, depths) in result.runs.iter().zip(&solved.depths) {
-        let rows = result.rows.iter().filter(|row| row.load == run.load);
-        for (((row, &id), &r), &depth) in rows.zip(&ids).zip(&radii).zip(depths) {
+        let rows: Vec<_> = result
+            .rows
+            .iter()
+            .filter(|row| row.load == run.load)
+            .collect();
+        for (((row, &id), &r), &depth) in rows.iter().zip(&ids).zip(&radii).zip(depths) {
             if r.is_finite() && (depth > r || row.radius > r) {
                 result.warnings.push(format!(
                     "load {} N, asperity {id}: a ball of radius {:.3} mm pressed {:.3} mm deep, \
@@ -137,20 +144,14 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
                 ));
             }
         }
-    }
-    result.warnings.extend(steep_cones(scenario, &ids));
-    let extent = set_extent(problem.positions());
-    for run in &result.runs {
-        let widest = result
-            .rows
+        let widest = rows
             .iter()
-            .filter(|row| row.load == run.load)
             .zip(&ids)
             .max_by(|a, b| a.0.radius.total_cmp(&b.0.radius));
         if let Some((row, id)) = widest
             && row.radius > extent
         {
-            result.warnings.push(format!(
+            too_wide.push(format!(
                 "load {} N, asperity {id}: a contact radius of {:.4} mm, wider than the whole \
                  set of summits ({:.4} mm from end to end): one contact covering every other \
                  summit is no road's (a flatter shape than meant, or a much lighter load?)",
@@ -160,6 +161,8 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
             ));
         }
     }
+    result.warnings.extend(steep_cones(scenario, &ids));
+    result.warnings.extend(too_wide);
     Ok(result)
 }
 

@@ -9,7 +9,6 @@ use std::path::Path;
 
 use serde::Deserialize;
 use tyreroad_contact_law::{ContactLaw, Material};
-use tyreroad_multipoint::Par;
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
     Branch, MAX_PER_DECADE, MasterCurve, Prony, Receding, TemperatureShift, TrailingMemory,
@@ -584,9 +583,7 @@ impl Scenario {
                     .elastic(series.long_term())
                     .map_err(visco_error("long_term"))?;
                 let config = self.rolling_config()?;
-                let par = options
-                    .par
-                    .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0)));
+                let par = options.rolling_par(spec);
                 let fields = fidelity == Fidelity::CalibratedFields;
                 let under = self.model.calibrate_under()?;
                 // The hereditary step solves each road law as it is: laws
@@ -625,9 +622,7 @@ impl Scenario {
                 texture,
                 &options.base_dir,
                 material,
-                options
-                    .par
-                    .unwrap_or_else(|| Par::rayon(spec.threads.unwrap_or(0))),
+                options.rolling_par(spec),
             )?;
             // Gaps at each cap's contact point, as the elastic run takes them.
             let road = rolling_road(set, radii, summary.top)?;

@@ -159,7 +159,9 @@ impl RollingConfig {
         let RollingControl::Approach(approach) = self.control else {
             return None;
         };
-        let boundary = (self.tread).boundary_profile(self.tread.effective_margin(self.margin));
+        let boundary = self
+            .tread
+            .boundary_profile(self.tread.effective_margin(self.margin));
         (approach > boundary).then_some((approach, boundary))
     }
 
