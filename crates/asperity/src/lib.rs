@@ -50,8 +50,9 @@
 //! vertex heights `Γ` is linear, `Σ` quadratic and `Ω` cubic in `δ`. A mesh's
 //! summit is a vertex, so below the first ring of vertices its cap is that of a
 //! pyramid (`Σ ∝ δ²`), even for a sphere mesh. Beyond
-//! [`CapGeometry::max_depth`] (the whole height, or the first overhang) a mesh
-//! is continued by vertical walls.
+//! [`CapGeometry::max_depth`] (the whole height, or the first overhang) a mesh,
+//! like a table past its last node, runs out C¹ into vertical walls, so that
+//! a law holding `Σ'` and `Γ'` does not jump there.
 //!
 //! ```
 //! use tyreroad_asperity::{CapGeometry, MeshAsperity, MeshBuffers, Sphere};
@@ -107,6 +108,7 @@ mod cap;
 mod error;
 mod mesh;
 mod mesh_build;
+mod run_out;
 mod table;
 
 pub use analytic::{Cone, EllipticParaboloid, Sphere, ellipse_perimeter};

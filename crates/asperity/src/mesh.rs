@@ -11,6 +11,7 @@ use nalgebra::Point3;
 use parry3d_f64::math::Vector;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+use crate::run_out::{RunOut, past_the_end};
 use crate::{CapGeometry, CapMeasures, GeometryError, MeshBuffers};
 
 /// One triangle, in coordinates relative to the summit (local `z ≤ 0`).
@@ -73,8 +74,8 @@ impl Acc {
 /// # Algorithm (exact to rounding)
 ///
 /// The cutting plane at depth `δ` is `z = z_summit − δ`. A vertex is *above*
-/// when its height is strictly greater than the plane's (a vertex lying exactly
-/// on the plane counts as below). Every triangle with a vertex above is clipped
+/// when its height exceeds the plane's by more than `1e-10` of the mesh's
+/// height (a vertex lying on the plane, to rounding, counts as below). Every triangle with a vertex above is clipped
 /// to its part above the plane (a triangle, or a quadrilateral), and with `O` a
 /// point of the plane:
 ///
@@ -118,10 +119,15 @@ impl Acc {
 /// or the depth of the first overhanging face met (≈ the equator of a sphere
 /// mesh). Above it no face facing down is cut, so every cut triangle adds
 /// `Lₜ n_z/|n_xy| ≥ 0` to `dΣ/dδ`: `Σ` and `Ω` never decrease. Beyond
-/// `max_depth` the asperity is continued by vertical walls, like
-/// [`Sphere`](crate::Sphere) below its equator: `Σ` and `Γ` keep their values
-/// at `max_depth`, `Ω` grows by `Σ (δ − max_depth)`, and the derivatives are 0.
-/// [`MeshAsperity::with_max_depth`] moves that limit (up to the whole height).
+/// `max_depth` the asperity is continued as a [`TabulatedCap`](crate::TabulatedCap)
+/// is past its last node: `Σ` and `Γ` run out from their values and slopes
+/// at `max_depth` along a monotone cubic to a slope of 0 (over the mesh's
+/// last piece of depth, at most a tenth of `max_depth`), then stay constant
+/// (vertical walls, like [`Sphere`](crate::Sphere) below its equator); `Ω`
+/// stays their integral. Walls started at once would make the potential
+/// law's force jump where `Σ'` does not vanish (twice over at a pyramid's
+/// base). [`MeshAsperity::with_max_depth`] moves that limit (up to the whole
+/// height).
 ///
 /// # Example
 ///
@@ -152,7 +158,15 @@ pub struct MeshAsperity {
     first_ring_depth: f64,
     monotone_depth: f64,
     max_depth: f64,
+    /// Height within which a vertex counts as on the cutting plane:
+    /// vertices of one ring rounded apart by a few ulps are cut together,
+    /// not as pieces of depth 1e-17 wide whose slopes are 1e15.
+    on_plane: f64,
     at_max: CapMeasures,
+    /// `Σ` past `max_depth`.
+    area_run_out: RunOut,
+    /// `Γ` past `max_depth`.
+    perimeter_run_out: RunOut,
 }
 
 impl fmt::Debug for MeshAsperity {
@@ -440,9 +454,12 @@ impl MeshAsperity {
             },
             monotone_depth,
             max_depth: monotone_depth,
+            on_plane: ON_PLANE * height,
             at_max: CapMeasures::EMPTY,
+            area_run_out: RunOut::new(0.0, 0.0, 0.0),
+            perimeter_run_out: RunOut::new(0.0, 0.0, 0.0),
         };
-        out.at_max = out.raw_cap(out.max_depth);
+        out.end_at(monotone_depth);
         Ok(out)
     }
 
@@ -458,9 +475,27 @@ impl MeshAsperity {
                 requirement: "> 0 and ≤ the mesh height",
             });
         }
+        self.end_at(max_depth);
+        Ok(self)
+    }
+
+    /// Ends the described shape at `max_depth`: its measures there, and the
+    /// run-outs of `Σ` and `Γ` beyond, each over the last piece of the
+    /// mesh (from the deepest vertex above `max_depth`), at most a tenth of
+    /// `max_depth`, so the extension stays close to the walls.
+    fn end_at(&mut self, max_depth: f64) {
         self.max_depth = max_depth;
         self.at_max = self.raw_cap(max_depth);
-        Ok(self)
+        let above = self
+            .tris
+            .iter()
+            .flat_map(|t| t.v.iter().map(|v| -v[2]))
+            .filter(|&d| d < max_depth)
+            .fold(0.0f64, f64::max);
+        let piece = (max_depth - above).min(0.1 * max_depth);
+        let m = self.at_max;
+        self.area_run_out = RunOut::new(m.base_area, m.d_base_area, piece);
+        self.perimeter_run_out = RunOut::new(m.perimeter, m.d_perimeter, piece);
     }
 
     /// The validated parry mesh (vertices and triangles as given, with
@@ -511,10 +546,10 @@ impl MeshAsperity {
     fn raw_cap(&self, depth: f64) -> CapMeasures {
         let mut acc = Acc::default();
         for t in &self.tris {
-            if t.top + depth <= 0.0 {
+            if t.top + depth <= self.on_plane {
                 break;
             }
-            acc.add(&clip(t, depth).0);
+            acc.add(&clip(t, depth, self.on_plane).0);
         }
         acc.measures()
     }
@@ -530,12 +565,16 @@ impl MeshAsperity {
             return MeshSection::default();
         }
         let d = depth.min(self.max_depth);
-        let kept = self.tris.iter().take_while(|t| t.top + d > 0.0).count();
+        let kept = self
+            .tris
+            .iter()
+            .take_while(|t| t.top + d > self.on_plane)
+            .count();
         let mut parts = UnionFind::new(kept);
         let mut rings = UnionFind::new(kept);
         let mut pieces = Vec::with_capacity(kept);
         for (s, t) in self.tris[..kept].iter().enumerate() {
-            let (acc, above) = clip(t, d);
+            let (acc, above) = clip(t, d, self.on_plane);
             for k in 0..3 {
                 let (a, b) = (above[k], above[(k + 1) % 3]);
                 let o = self.neighbors[s][k] as usize;
@@ -570,9 +609,14 @@ impl MeshAsperity {
         patches.retain(|p| p.loops > 0);
         let mut measures = self.raw_cap(d);
         if depth > self.max_depth {
+            // Each patch takes its share of the run-out, by its base.
             measures = self.cap(depth);
+            let m = self.at_max;
             for p in &mut patches {
-                p.volume += p.base_area * (depth - self.max_depth);
+                let share = p.base_area / m.base_area;
+                p.volume += share * (measures.volume - m.volume);
+                p.base_area = share * measures.base_area;
+                p.perimeter *= measures.perimeter / m.perimeter;
             }
         }
         MeshSection {
@@ -593,26 +637,42 @@ impl CapGeometry for MeshAsperity {
         if depth <= self.max_depth {
             return self.raw_cap(depth);
         }
-        let m = self.at_max;
-        CapMeasures {
-            volume: m.volume + m.base_area * (depth - self.max_depth),
-            base_area: m.base_area,
-            perimeter: m.perimeter,
-            ..CapMeasures::EMPTY
-        }
+        past_the_end(
+            self.at_max.volume,
+            &self.area_run_out,
+            &self.perimeter_run_out,
+            depth - self.max_depth,
+        )
     }
 
     fn max_depth(&self) -> f64 {
         self.max_depth
     }
+
+    /// `max_depth`, then the ends of the run-outs of `Σ` and `Γ`: where a
+    /// law scans for stretches too soft to solve.
+    fn breakpoints(&self) -> Vec<f64> {
+        let mut ends = vec![
+            self.max_depth,
+            self.max_depth + self.area_run_out.len,
+            self.max_depth + self.perimeter_run_out.len,
+        ];
+        ends.sort_by(f64::total_cmp);
+        ends.dedup();
+        ends
+    }
 }
 
-/// The kept part of one triangle at `depth`, and which vertices are above.
+/// `MeshAsperity::on_plane` relative to the mesh's height.
+const ON_PLANE: f64 = 1e-10;
+
+/// The kept part of one triangle at `depth`, and which vertices are above
+/// (higher than the plane by more than `on_plane`).
 #[inline]
-fn clip(t: &Tri, depth: f64) -> (Acc, [bool; 3]) {
+fn clip(t: &Tri, depth: f64, on_plane: f64) -> (Acc, [bool; 3]) {
     let h = [t.v[0][2] + depth, t.v[1][2] + depth, t.v[2][2] + depth];
-    let above = [h[0] > 0.0, h[1] > 0.0, h[2] > 0.0];
-    if t.bottom + depth > 0.0 {
+    let above = [h[0] > on_plane, h[1] > on_plane, h[2] > on_plane];
+    if t.bottom + depth > on_plane {
         // Wholly above: det(a + δe, b + δe, c + δe) = det(a, b, c) + 2 δ A_z.
         let acc = Acc {
             volume: t.vol0 + depth * t.area / 3.0,
@@ -634,6 +694,9 @@ fn clip(t: &Tri, depth: f64) -> (Acc, [bool; 3]) {
         let dy = pb[1] - pa[1];
         ([pa[0] + s * dx, pa[1] + s * dy, 0.0], [dx / dz, dy / dz])
     };
+    // The plane through (to rounding) the one vertex below two above: the
+    // cut segment has just shrunk to nothing there.
+    let mut vanishing = false;
     let (poly, n, (q0, v0), (q1, v1)) = if n_above == 1 {
         let i = if above[0] {
             0
@@ -656,6 +719,7 @@ fn clip(t: &Tri, depth: f64) -> (Acc, [bool; 3]) {
             2
         };
         let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+        vanishing = h[i] >= -on_plane;
         let c0 = cut(b, i);
         let c1 = cut(a, i);
         ([p(a), p(b), c0.0, c1.0], 4, c0, c1)
@@ -668,14 +732,21 @@ fn clip(t: &Tri, depth: f64) -> (Acc, [bool; 3]) {
     }
     let ux = q1[0] - q0[0];
     let uy = q1[1] - q0[1];
-    let len = ux.hypot(uy);
+    let len = if vanishing { 0.0 } else { ux.hypot(uy) };
     acc.length = len;
-    if len > 0.0 {
-        let dl = (ux * (v1[0] - v0[0]) + uy * (v1[1] - v0[1])) / len;
-        acc.d_length = dl;
-        acc.d_area = t.slope * len;
-        acc.d2_area = t.slope * dl;
-    }
+    let dl = if vanishing {
+        // Its left derivative (as everywhere at vertex heights): the rate
+        // at which its two ends part; the direction of a segment of
+        // rounding noise would say nothing.
+        -(v1[0] - v0[0]).hypot(v1[1] - v0[1])
+    } else if len > 0.0 {
+        (ux * (v1[0] - v0[0]) + uy * (v1[1] - v0[1])) / len
+    } else {
+        0.0
+    };
+    acc.d_length = dl;
+    acc.d_area = t.slope * len;
+    acc.d2_area = t.slope * dl;
     (acc, above)
 }
 

@@ -1,6 +1,7 @@
 //! Caps tabulated on a grid of depths, interpolated smoothly and monotonically
 //! for fast evaluation inside the Newton solver.
 
+use crate::run_out::{RunOut, hermite, hermite_integral, past_the_end};
 use crate::{CapGeometry, CapMeasures, GeometryError};
 use tyreroad_core::{PchipRule, pchip_slopes};
 
@@ -100,53 +101,9 @@ pub struct TabulatedCap {
     /// Onset exponent of `Γ`.
     q: f64,
     /// Run-out of `Σ` beyond the last node.
-    area_tail: Tail,
+    area_tail: RunOut,
     /// Run-out of `Γ` beyond the last node.
-    perimeter_tail: Tail,
-}
-
-/// The C¹ run-out of an interpolant beyond the last node `x`: the Hermite
-/// cubic from `(x, y, m)` to `(x + len, y + m·len/2, 0)`, then constant.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Tail {
-    len: f64,
-    y: f64,
-    m: f64,
-}
-
-impl Tail {
-    /// The run-out from value `y` with slope `m` at the last node, over the
-    /// last interval's width `h`; a falling run-out is shortened so that it
-    /// loses at most half of `y` (a perimeter stays positive).
-    fn new(y: f64, m: f64, h: f64) -> Self {
-        let len = if m < 0.0 { h.min(y / -m) } else { h };
-        Self { len, y, m }
-    }
-
-    /// Value, first and second derivatives at distance `t ≥ 0` past the
-    /// last node.
-    fn eval(&self, t: f64) -> [f64; 3] {
-        if self.m == 0.0 || t >= self.len {
-            return [self.y + 0.5 * self.m * self.len, 0.0, 0.0];
-        }
-        let u = t / self.len;
-        let (m0, y1) = (self.m * self.len, self.y + 0.5 * self.m * self.len);
-        let v = hermite(u, self.y, m0, y1, 0.0);
-        [v[0], v[1] / self.len, v[2] / (self.len * self.len)]
-    }
-
-    /// `∫₀ᵗ` of the run-out.
-    fn integral(&self, t: f64) -> f64 {
-        let m0 = self.m * self.len;
-        let y1 = self.y + 0.5 * m0;
-        if self.m == 0.0 {
-            return self.y * t;
-        }
-        if t >= self.len {
-            return hermite_integral(1.0, self.len, self.y, m0, y1, 0.0) + y1 * (t - self.len);
-        }
-        hermite_integral(t / self.len, self.len, self.y, m0, y1, 0.0)
-    }
+    perimeter_tail: RunOut,
 }
 
 impl TryFrom<CapTable> for TabulatedCap {
@@ -273,8 +230,8 @@ impl TabulatedCap {
             return bad("the integrated volume is not finite".into());
         }
         let h_last = table.depth[n - 1] - table.depth[n - 2];
-        let area_tail = Tail::new(table.base_area[n - 1], d_area[n - 1], h_last);
-        let perimeter_tail = Tail::new(table.perimeter[n - 1], d_perimeter[n - 1], h_last);
+        let area_tail = RunOut::new(table.base_area[n - 1], d_area[n - 1], h_last);
+        let perimeter_tail = RunOut::new(table.perimeter[n - 1], d_perimeter[n - 1], h_last);
         Ok(Self {
             table,
             omega,
@@ -414,16 +371,12 @@ impl CapGeometry for TabulatedCap {
         let last = n - 1;
         if depth > x[last] {
             let past = depth - x[last];
-            let (sig, gam) = (self.area_tail.eval(past), self.perimeter_tail.eval(past));
-            return CapMeasures {
-                volume: self.omega[last] + self.area_tail.integral(past),
-                base_area: sig[0],
-                perimeter: gam[0],
-                d_base_area: sig[1],
-                d_perimeter: gam[1],
-                d2_base_area: sig[2],
-                d2_perimeter: gam[2],
-            };
+            return past_the_end(
+                self.omega[last],
+                &self.area_tail,
+                &self.perimeter_tail,
+                past,
+            );
         }
         // x[k] ≤ depth < x[k+1], or k = last − 1 at depth = x[last].
         let k = (x.partition_point(|&v| v <= depth) - 1).min(last - 1);
@@ -464,34 +417,4 @@ impl CapGeometry for TabulatedCap {
         }
         b
     }
-}
-
-/// Cubic Hermite on `u ∈ [0, 1]` with end values `y0`, `y1` and end slopes
-/// `m0`, `m1` (per unit `u`): value and first two `u`-derivatives.
-#[inline]
-fn hermite(u: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> [f64; 3] {
-    let u2 = u * u;
-    let u3 = u2 * u;
-    let v = y0 * (2.0 * u3 - 3.0 * u2 + 1.0)
-        + m0 * (u3 - 2.0 * u2 + u)
-        + y1 * (3.0 * u2 - 2.0 * u3)
-        + m1 * (u3 - u2);
-    let d = y0 * (6.0 * u2 - 6.0 * u)
-        + m0 * (3.0 * u2 - 4.0 * u + 1.0)
-        + y1 * (6.0 * u - 6.0 * u2)
-        + m1 * (3.0 * u2 - 2.0 * u);
-    let dd =
-        y0 * (12.0 * u - 6.0) + m0 * (6.0 * u - 4.0) + y1 * (6.0 - 12.0 * u) + m1 * (6.0 * u - 2.0);
-    [v, d, dd]
-}
-
-/// `∫` of the cubic Hermite piece of width `h` (end slopes `m0`, `m1` per
-/// unit `u`) from its start to `u ∈ [0, 1]`.
-#[inline]
-fn hermite_integral(u: f64, h: f64, y0: f64, m0: f64, y1: f64, m1: f64) -> f64 {
-    let (u2, u3, u4) = (u * u, u * u * u, u * u * u * u);
-    h * (y0 * (u4 / 2.0 - u3 + u)
-        + m0 * (u4 / 4.0 - 2.0 * u3 / 3.0 + u2 / 2.0)
-        + y1 * (u3 - u4 / 2.0)
-        + m1 * (u4 / 4.0 - u3 / 3.0))
 }

@@ -241,8 +241,14 @@ fn depth_outside_the_mesh() {
     assert_eq!(m.cap(f64::INFINITY).base_area, at.base_area);
     // A sphere mesh continued below max_depth ≈ R, or below a chosen depth.
     let ball = mesh(&MeshBuffers::icosphere(1.0, 3).unwrap());
+    // Past it, Σ runs out from its slope there (at most a tenth of the depth
+    // long) and stays put.
     let c = ball.cap(3.0);
-    assert!(c.base_area > 0.9 * PI && c.base_area <= ball.cap(ball.max_depth()).base_area);
+    let end = ball.cap(ball.max_depth());
+    let run_out = 0.5 * end.d_base_area * 0.1 * ball.max_depth();
+    assert!(c.base_area > 0.9 * PI && c.base_area >= end.base_area);
+    assert!(c.base_area <= end.base_area + run_out + 1e-12);
+    assert_eq!((c.d_base_area, c.d_perimeter), (0.0, 0.0));
     let ball = ball.with_max_depth(2.0).unwrap();
     assert!(
         ball.cap(2.0).base_area.abs() < 1e-12,
@@ -451,4 +457,126 @@ fn asperities_can_be_shared_between_threads() {
     fn check<T: Send + Sync + Clone>() {}
     check::<MeshAsperity>();
     check::<tyreroad_asperity::TabulatedCap>();
+}
+
+/// The unit cube `[0, 1]³`: a flat top and vertical walls.
+fn cube() -> MeshAsperity {
+    let v: Vec<[f64; 3]> = (0..8)
+        .map(|k| [f64::from(k & 1), f64::from((k >> 1) & 1), f64::from(k >> 2)])
+        .collect();
+    let quads = [
+        [0, 2, 3, 1], // bottom, facing down
+        [4, 5, 7, 6], // top
+        [0, 1, 5, 4], // y = 0
+        [2, 6, 7, 3], // y = 1
+        [0, 4, 6, 2], // x = 0
+        [1, 3, 7, 5], // x = 1
+    ];
+    let i: Vec<[u32; 3]> = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    MeshAsperity::new(&v, &i).unwrap()
+}
+
+/// The distinct depths of the mesh's vertices below its summit, in
+/// `(0, max_depth]`; depths within rounding (1e-9 of the deepest) are one.
+fn vertex_depths(m: &MeshAsperity) -> Vec<f64> {
+    let top = m.summit()[2];
+    let mut d: Vec<f64> = m
+        .trimesh()
+        .vertices()
+        .iter()
+        .map(|p| top - p.z)
+        .filter(|&d| d > 0.0 && d <= m.max_depth())
+        .collect();
+    d.sort_by(f64::total_cmp);
+    let close = 1e-9 * m.max_depth();
+    d.dedup_by(|b, a| *b - *a <= close);
+    d
+}
+
+/// Regression: at a depth where the plane passes exactly through a
+/// triangle's lowest vertex, that triangle's cut segment has just shrunk to
+/// nothing and added 0 to `Γ'`, so a cube's `Γ'` at its base came out as 4
+/// instead of 0 (and a pyramid's as more than its own).
+#[test]
+fn slopes_at_vertex_heights_are_the_left_derivatives() {
+    let meshes = [
+        ("cube", cube()),
+        (
+            "tetrahedron",
+            mesh(&MeshBuffers::cone(0.9, 1.0, 3).unwrap()),
+        ),
+        (
+            "48-flank cone",
+            mesh(&MeshBuffers::cone(1.1, 2e-3, 48).unwrap()),
+        ),
+        ("icosphere", mesh(&MeshBuffers::icosphere(1.0, 2).unwrap())),
+        ("crater", mesh(&crater(12).0)),
+        ("two bumps", diamonds().0),
+    ];
+    for (name, m) in &meshes {
+        let depths = vertex_depths(m);
+        let mut previous = 0.0;
+        for &d in &depths {
+            // Γ is affine and Σ quadratic between two vertex heights.
+            let eps = 1e-3 * (d - previous);
+            previous = d;
+            let (at, before) = (m.cap(d), m.cap(d - eps));
+            let gamma_left = (at.perimeter - before.perimeter) / eps;
+            let sigma_left = (at.base_area - before.base_area) / eps;
+            let scale = at.perimeter / d;
+            assert!(
+                (at.d_perimeter - gamma_left).abs() <= 1e-6 * scale,
+                "{name}, δ = {d}: Γ' {} against the left difference {gamma_left}",
+                at.d_perimeter
+            );
+            assert!(
+                (at.d_base_area - sigma_left).abs()
+                    <= 0.5 * at.d2_base_area.abs() * eps + 1e-6 * at.base_area / d,
+                "{name}, δ = {d}: Σ' {} against the left difference {sigma_left}",
+                at.d_base_area
+            );
+        }
+    }
+    let base = cube().cap(1.0);
+    assert_eq!((base.d_base_area, base.d_perimeter), (0.0, 0.0));
+}
+
+/// Regression: past `max_depth` the mesh went on as walls at once, so its
+/// `Σ'` fell from `2Σ/δ` to 0 at a pyramid's base and the potential law's
+/// force jumped twofold there.
+#[test]
+fn past_its_depth_a_mesh_runs_out_without_a_jump() {
+    for m in [
+        mesh(&MeshBuffers::cone(0.9, 1.0, 3).unwrap()),
+        mesh(&MeshBuffers::cone(1.1, 2e-3, 48).unwrap()),
+        mesh(&MeshBuffers::icosphere(1.0, 2).unwrap()),
+    ] {
+        let h = m.max_depth();
+        let (at, past) = (m.cap(h), m.cap(h * (1.0 + 1e-9)));
+        for (a, b) in [
+            (at.volume, past.volume),
+            (at.base_area, past.base_area),
+            (at.perimeter, past.perimeter),
+        ] {
+            assert!(rel(b, a) < 1e-7, "{a} then {b}");
+        }
+        assert!((past.d_base_area - at.d_base_area).abs() <= 1e-6 * at.base_area / h);
+        assert!((past.d_perimeter - at.d_perimeter).abs() <= 1e-6 * at.perimeter / h);
+        // Inside the run-out Ω' = Σ, Σ and Γ keep rising (or Γ falls by at
+        // most half); a tenth of the depth on, walls.
+        let d = h * 1.05;
+        let eps = 1e-6 * h;
+        let mid = m.cap(d);
+        let omega_slope = (m.cap(d + eps).volume - m.cap(d - eps).volume) / (2.0 * eps);
+        assert!(rel(omega_slope, mid.base_area) < 1e-6);
+        assert!(mid.base_area >= at.base_area && mid.perimeter >= 0.5 * at.perimeter);
+        let walls = m.cap(1.2 * h);
+        assert_eq!((walls.d_base_area, walls.d_perimeter), (0.0, 0.0));
+        let run_out = 0.5 * at.d_base_area * 0.1 * h;
+        assert!(walls.base_area <= at.base_area + run_out * (1.0 + 1e-12));
+        assert_eq!(m.breakpoints()[0], h);
+    }
 }

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use proptest::prelude::*;
-use tyreroad_asperity::{Cone, EllipticParaboloid, Sphere};
+use tyreroad_asperity::{CapGeometry, Cone, EllipticParaboloid, MeshAsperity, MeshBuffers, Sphere};
 use tyreroad_contact_law::*;
 
 fn rubber() -> Material {
@@ -189,6 +189,38 @@ proptest! {
             let h = lo * r * 1e-7;
             let c = law.force(lo * r + h);
             prop_assert!((c - a.force).abs() <= 2.0 * a.stiffness * h + 1e-12 * a.force);
+        }
+    }
+}
+
+/// Regression: past a mesh's depth its cap went on as vertical walls at
+/// once, and the potential law's force doubled there across a pyramid's
+/// base (`Σ'` fell from `2Σ/δ` to 0): loads between the two forces had no
+/// depth, and a Newton solve for them cycled.
+#[test]
+fn a_mesh_law_has_no_jump_at_the_mesh_depth() {
+    for (name, buffers) in [
+        ("tetrahedron", MeshBuffers::cone(0.9, 1e-3, 3).unwrap()),
+        ("48-flank cone", MeshBuffers::cone(1.1, 2e-3, 48).unwrap()),
+        ("icosphere", MeshBuffers::icosphere(1e-3, 2).unwrap()),
+    ] {
+        let mesh = MeshAsperity::from_buffers(&buffers).unwrap();
+        let h = mesh.max_depth();
+        let law = PotentialLaw::new(mesh, rubber(), C_CONE, LocalRule::HalfSection).unwrap();
+        let (below, above) = (law.force(h * (1.0 - 1e-9)), law.force(h * (1.0 + 1e-9)));
+        assert!(
+            rel(above, below) < 1e-6,
+            "{name}: {below} N just above its depth, {above} N just past it"
+        );
+        // Through the run-out and into the walls, the force keeps rising.
+        let mut last = below;
+        for k in 1..=60 {
+            let point = law.evaluate(h * (1.0 + 0.005 * f64::from(k)));
+            assert!(
+                point.force > last && point.stiffness > 0.0,
+                "{name}: at {k} × 0.5 % past its depth, {point:?} after {last} N"
+            );
+            last = point.force;
         }
     }
 }
