@@ -17,7 +17,9 @@
 //! caller numbers (ids, positions, depths, forces) and gets numbers back.
 //! A step whose fixed point has not settled after
 //! [`StepCoupling::max_rounds`] rounds is that step's recorded failure,
-//! its residual the last round's change over the scale.
+//! its residual the last round's change over the scale (under the
+//! deformed tread's slopes, after one more try with the slopes held where
+//! the rounds left them: docs/rolling.md, "Where the tread touches a cap").
 //!
 //! The caller may also say how a contact's force spreads over the road
 //! ([`StepCoupling::spread`]): the sensors then count each contact on its
@@ -232,12 +234,16 @@ pub fn first_solve(
 /// with `change` as the last change: kept, marked stagnated, when `change`
 /// is within `acceptable` ([`StepCoupling::acceptable_tolerance`]), else
 /// `None` (the step fails).
-pub fn stalled_fixed_point(mut s: Solution, change: f64, acceptable: f64) -> Option<Solution> {
-    (change <= acceptable).then(|| {
-        s.residual = s.residual.max(change);
-        s.convergence = Convergence::Stagnated { residual: change };
-        s
-    })
+pub fn stalled_fixed_point(s: Solution, change: f64, acceptable: f64) -> Option<Solution> {
+    (change <= acceptable).then(|| kept_stagnated(s, change))
+}
+
+/// `s` kept, marked stagnated at `residual` (a step's solution short of its
+/// tolerance, or of its slopes' fixed point, by that much).
+pub fn kept_stagnated(mut s: Solution, residual: f64) -> Solution {
+    s.residual = s.residual.max(residual);
+    s.convergence = Convergence::Stagnated { residual };
+    s
 }
 
 /// `max_i |next_i − last_i|`: how far a step's forces moved in a round.

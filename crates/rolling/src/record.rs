@@ -9,8 +9,9 @@ pub enum StepStatus {
     /// The solver met its tolerance.
     Converged,
     /// The solver stagnated just above the tolerance, within its acceptable
-    /// tolerance (`tyreroad_multipoint::Convergence::Stagnated`); the
-    /// step's values are kept.
+    /// tolerance (`tyreroad_multipoint::Convergence::Stagnated`), or the
+    /// deformed tread's slopes were held a round short of their fixed
+    /// point; the step's values are kept, its residual saying by how much.
     Stagnated,
     /// The solve failed after every recovery: the step's force, approach,
     /// area and sensor values are NaN and it has no contacts; the next step

@@ -7,9 +7,9 @@
 //! with the rounds before ([`SlopeMixer`]); the gaps and contact points
 //! rebuilt at them; a solve warm-started from the last forces
 //! ([`consistent_start`]). Settled when no gap moves by more than
-//! `SLOPE_TOLERANCE` of the deepest interpenetration; kept as stagnated
-//! when the rounds are spent with no force moving by more than
-//! `SLOPE_ACCEPTABLE_FORCE_CHANGE` of the load; else the step's failure.
+//! `SLOPE_TOLERANCE` of the deepest interpenetration; kept with its slopes
+//! held, marked stagnated, when the rounds are spent with no force moving
+//! by more than `HELD_SLOPES_LIMIT` of the load; else the step's failure.
 //!
 //! Invariants: under the profile (`slopes` `None`) one solve, exactly the
 //! step without this module; the fixed points are the plain iteration's.
@@ -66,14 +66,19 @@ fn largest_gap_move<L: ContactLaw>(a: &Problem<&L>, b: &Problem<&L>) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// A step whose slope rounds are spent with its gaps still moving is kept,
-/// marked stagnated (its residual the last round's largest force change
-/// over the load), when no force moved by more than this fraction of the
-/// load in that round: the coupled steps' default acceptance
-/// ([`StepCoupling::acceptable_tolerance`]). A contact at the edge of the
-/// footprint turning on and off at 1e-4 N moves its gap by a few tenths of
-/// a micrometre, and no more settles.
-const SLOPE_ACCEPTABLE_FORCE_CHANGE: f64 = 1e-5;
+/// A step whose slope rounds end unsettled, its last round having moved
+/// no force by more than this fraction of the load, is kept with its slopes
+/// held where the rounds left them: marked stagnated, its residual that
+/// last change. The contact is then solved exactly for slopes a round
+/// short of their own fixed point (an uncoupled step: the last round's
+/// solve; a coupled one: the field coupling settled again with the slopes
+/// held). Contacts at the edges of a split plateau's tiles turn on and off
+/// between rounds and no more settles; on the porous asphalt's 100 steps
+/// under `calibrated_fields` the held steps' last rounds moved 1e-5 to
+/// 8e-4 of the load, and none of the sensors' largest errors against the
+/// BEM moved (docs/validation.md, "Slopes held where their rounds end").
+/// A larger change is the step's failure.
+pub(crate) const HELD_SLOPES_LIMIT: f64 = 1e-2;
 
 /// A step's gaps have settled when no gap moves by more than this
 /// fraction of the deepest interpenetration between two rounds.
@@ -121,8 +126,8 @@ pub(crate) fn consistent_start<L: ContactLaw>(
 /// other, and the plain iteration can cycle between one loaded and the
 /// other (porous asphalt's 5 mm tiles: 15 of 16 cold steps failed so); the
 /// mix has the same fixed point. A step still moving after
-/// [`SLOPE_ROUNDS`] is its failure, the last move over the depth its
-/// residual.
+/// [`SLOPE_ROUNDS`] is kept with its slopes held ([`HELD_SLOPES_LIMIT`]),
+/// or is its failure, the last move over the depth its residual.
 pub(crate) fn settle_slopes<'p, L: ContactLaw + Sync>(
     (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
     (ids, laws): (&[usize], &[&'p L]),
@@ -168,7 +173,8 @@ pub(crate) fn settle_slopes<'p, L: ContactLaw + Sync>(
         iterations += s.iterations;
     }
     s.iterations = iterations;
-    if let Some(s) = stalled_fixed_point(s, force_change, SLOPE_ACCEPTABLE_FORCE_CHANGE) {
+    // Solved at the slopes the rounds ended on: kept when they came close.
+    if let Some(s) = stalled_fixed_point(s, force_change, HELD_SLOPES_LIMIT) {
         return Ok(Ok(s));
     }
     Ok(Err(SolveError::NotConverged {

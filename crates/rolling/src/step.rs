@@ -10,11 +10,13 @@ use tyreroad_multipoint::{
 
 use crate::coupling::{
     CouplingState, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve, force_scale,
-    stalled_fixed_point,
+    kept_stagnated, stalled_fixed_point,
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::slope::SlopeMixer;
-use crate::slope_rounds::{consistent_start, contact_radii, deformed_slopes, settle_slopes};
+use crate::slope_rounds::{
+    HELD_SLOPES_LIMIT, consistent_start, contact_radii, deformed_slopes, settle_slopes,
+};
 use crate::{
     ContactSlope, Road, RollingConfig, RollingControl, RollingError, StepRecord, StepStatus, Tread,
 };
@@ -556,52 +558,72 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     };
     let mut offsets = offsets_of(problem);
     let mut change = f64::INFINITY;
-    let mut damping = FixedPointDamping::default();
-    let mut mixer = SlopeMixer::default();
-    for round in 1..=coupling.max_rounds() {
-        // The deformed tread's slopes follow the last round's forces (mixed
-        // with the rounds before, as the uncoupled step's); the contact
-        // points, gaps and kernel move with them.
-        if let Some(current) = slopes.as_mut() {
-            let radii = contact_radii(&s, problem);
-            if let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii) {
-                *current = mixer.next(current, &next);
+    // The rounds with the slopes moving; when those end unsettled, the same
+    // fixed point again with the slopes held where they left them
+    // (`HELD_SLOPES_LIMIT`), its residual the moving rounds' last change.
+    let mut held_after = None;
+    for move_slopes in [true, false] {
+        if !move_slopes {
+            if slopes.is_none()
+                || change <= coupling.acceptable_tolerance()
+                || change > HELD_SLOPES_LIMIT
+            {
+                break;
             }
-            *problem = build_at(road, material, config, xc, ids, laws, true, Some(current))?;
-            offsets = offsets_of(problem);
-            s = consistent_start(problem, &s, &used);
+            held_after = Some(change);
         }
-        let state = CouplingState {
-            ids,
-            problem,
-            offsets: &offsets,
-            depths: &s.depths,
-            forces: &s.forces,
-        };
-        let c = coupling.correction(&state).map_err(|m| {
-            RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
-        })?;
-        let c = damping
-            .relax(round, &used, c, problem.len())
-            .map_err(|source| RollingError::Solve {
-                position: xc,
-                source,
+        let mut damping = FixedPointDamping::default();
+        let mut mixer = SlopeMixer::default();
+        for round in 1..=coupling.max_rounds() {
+            // The deformed tread's slopes follow the last round's forces (mixed
+            // with the rounds before, as the uncoupled step's); the contact
+            // points, gaps and kernel move with them.
+            if let Some(current) = slopes.as_mut().filter(|_| move_slopes) {
+                let radii = contact_radii(&s, problem);
+                if let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii)
+                {
+                    *current = mixer.next(current, &next);
+                }
+                *problem = build_at(road, material, config, xc, ids, laws, true, Some(current))?;
+                offsets = offsets_of(problem);
+                s = consistent_start(problem, &s, &used);
+            }
+            let state = CouplingState {
+                ids,
+                problem,
+                offsets: &offsets,
+                depths: &s.depths,
+                forces: &s.forces,
+            };
+            let c = coupling.correction(&state).map_err(|m| {
+                RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
             })?;
-        let next = match solve_corrected(problem, control, options, Some(&s), &c) {
-            Ok(next) => next,
-            Err(e) => return Ok(Err(e)),
-        };
-        iterations += next.iterations;
-        used = c;
-        change = damping.change(round, &next.forces, &s.forces, scale);
-        s = next;
-        if change <= coupling.tolerance() {
-            coupling.settled(round);
-            s.iterations = iterations;
-            return Ok(Ok((s, used)));
+            let c = damping
+                .relax(round, &used, c, problem.len())
+                .map_err(|source| RollingError::Solve {
+                    position: xc,
+                    source,
+                })?;
+            let next = match solve_corrected(problem, control, options, Some(&s), &c) {
+                Ok(next) => next,
+                Err(e) => return Ok(Err(e)),
+            };
+            iterations += next.iterations;
+            used = c;
+            change = damping.change(round, &next.forces, &s.forces, scale);
+            s = next;
+            if change <= coupling.tolerance() {
+                coupling.settled(round);
+                s.iterations = iterations;
+                if let Some(moving) = held_after {
+                    s = kept_stagnated(s, moving);
+                }
+                return Ok(Ok((s, used)));
+            }
         }
     }
     s.iterations = iterations;
+    let change = held_after.map_or(change, |moving| moving.max(change));
     if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
         return Ok(Ok((s, used)));
     }
