@@ -227,3 +227,44 @@ fn static_warnings(
     };
     Ok(r.warnings)
 }
+
+/// Regression (2026-11-30): the needle-cone warning was a static run's
+/// only; rolled, elastic or viscoelastic, a list of 30° cones said
+/// nothing. Each now says it in its road summary, as the static run does;
+/// 70° cones are not warned of.
+#[test]
+fn a_rolling_road_of_needle_cones_is_warned_of() -> Result<(), Box<dyn std::error::Error>> {
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    let dir = tempfile::tempdir()?;
+    let run = |angle: &str, visco: &str| -> Result<Vec<String>, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"cones\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n{visco}\
+             [default_shape]\nkind = \"cone\"\nhalf_angle = \"{angle}\"\n\
+             [rolling]\nstart = \"20 mm\"\nend = \"23 mm\"\nstep = \"1 mm\"\n\
+             speed = \"50 km/h\"\nmargin = \"0 mm\"\ncheckpoint = false\n\
+             [rolling.tread]\nkind = \"block\"\nlength = \"60 mm\"\nwidth = \"20 mm\"\n\
+             [rolling.control]\nload = \"3 N\"\n\
+             [[asperity]]\nid = 1\nx = \"10 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nid = 2\nx = \"20 mm\"\ny = \"0 mm\"\n\
+             [[asperity]]\nid = 3\nx = \"30 mm\"\ny = \"0 mm\"\n"
+        );
+        let s = Scenario::parse(&text, "cones")?;
+        let ScenarioResult::Rolling(run) = s.run(&RunOptions::new(dir.path()))? else {
+            return Err("not a rolling result".into());
+        };
+        Ok(run.road.warnings().to_vec())
+    };
+    let visco = "[material.viscoelastic]\nlong_term = \"5 MPa\"\n\
+                 [[material.viscoelastic.branch]]\nmodulus = \"5 MPa\"\n\
+                 relaxation_time = \"1 ms\"\n";
+    for tread in ["", visco] {
+        let steep = run("30 deg", tread)?;
+        assert!(
+            steep.iter().any(|w| w
+                .starts_with("3 cone(s) with flanks steeper than 45°, the steepest asperity 1")),
+            "{steep:?}"
+        );
+        assert!(run("70 deg", tread)?.is_empty(), "{tread}");
+    }
+    Ok(())
+}

@@ -33,6 +33,7 @@ mod rolling_inside;
 mod rolling_npy;
 mod rolling_spec;
 mod rolling_stream;
+mod shape_warnings;
 mod spec;
 mod statics;
 mod texture;

@@ -243,7 +243,7 @@ pub(crate) fn rolling_on_uncalibrated_road(
                 set,
                 RoadSummary::Asperities {
                     count,
-                    warnings: Vec::new(),
+                    warnings: scenario.steep_cone_warning().into_iter().collect(),
                 },
                 material,
                 spec,

@@ -7,7 +7,7 @@ use tyreroad_multipoint::{
     Control, Problem, Solution, SolveError, SolverOptions, overlapping_contacts, solve,
 };
 
-use super::{Scenario, ScenarioError, ShapeSpec};
+use super::{Scenario, ScenarioError};
 
 /// One asperity at one load.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -161,7 +161,7 @@ pub fn run_static(scenario: &Scenario) -> Result<StaticResult, ScenarioError> {
             ));
         }
     }
-    result.warnings.extend(steep_cones(scenario, &ids));
+    result.warnings.extend(scenario.steep_cone_warning());
     result.warnings.extend(too_wide);
     Ok(result)
 }
@@ -219,37 +219,6 @@ fn half_hull(points: impl Iterator<Item = [f64; 2]>) -> Vec<[f64; 2]> {
     }
     chain
 }
-
-/// Cones whose flanks are steeper than 45° (half-angle under
-/// [`STEEPEST_CONE`]): Sneddon's cone, and the half-space theory under
-/// every law here, take the surface's slopes as small, and a needle's
-/// `cot α` of thousands gives approaches of metres. One warning for all
-/// of them.
-fn steep_cones(scenario: &Scenario, ids: &[u32]) -> Option<String> {
-    let steep: Vec<(u32, f64)> = ids
-        .iter()
-        .enumerate()
-        .filter_map(|(k, &id)| match scenario.shape_of(k) {
-            Ok(ShapeSpec::Cone { half_angle, .. }) if half_angle.value() < STEEPEST_CONE => {
-                Some((id, half_angle.value()))
-            }
-            _ => None,
-        })
-        .collect();
-    let &(id, alpha) = steep.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
-    Some(format!(
-        "{} cone(s) with flanks steeper than 45°, the steepest asperity {id} (half-angle \
-         {:.4e}°, flank slope cot α = {:.3e}): the half-space theory takes a surface's slopes \
-         as small, so such a cone's forces and approach are no road's (half-angles of 60–85° \
-         are a road's)",
-        steep.len(),
-        alpha.to_degrees(),
-        1.0 / alpha.tan()
-    ))
-}
-
-/// The half-angle (rad) under which a cone's flank is steeper than 45°.
-const STEEPEST_CONE: f64 = std::f64::consts::FRAC_PI_4;
 
 /// A static run with each load's local contacts (for pressure maps).
 #[derive(Clone, Debug)]

@@ -642,7 +642,7 @@ impl Scenario {
                     &road,
                     RoadSummary::Asperities {
                         count,
-                        warnings: Vec::new(),
+                        warnings: self.steep_cone_warning().into_iter().collect(),
                     },
                     None,
                 );
