@@ -275,10 +275,29 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// not halve the change. Two contacts whose patches overlap can make the
 /// plain iteration cycle; the blend keeps the same fixed point (where
 /// `C(δ)` is the `C` solved with) and damps the cycle.
-#[derive(Clone, Copy, Debug)]
+///
+/// [`FixedPointDamping::aitken`] is the rescue of a step the halving left
+/// unsettled: there a contact coming in draws load from its neighbours
+/// round after round, each change 0.97 of the last, and a β held at 1/16
+/// only slows such a drift. Its β follows Aitken's rule (Irons–Tuck) on
+/// the rounds' force updates, from its third round: with
+/// `r_k = (P^k − P^(k−1)) / β_k` the update a round would have made whole,
+///
+/// ```text
+/// β_(k+1) = −β_k · r_(k−1)·(r_k − r_(k−1)) / |r_k − r_(k−1)|²,   clamped to [1/16, 1]
+/// ```
+///
+/// which lifts β by `1/(1 − ρ)` on a drift `r_k = ρ r_(k−1)` and lowers it
+/// by `1 + ρ` on a cycle `r_k = −ρ r_(k−1)`. Measured as the only rule
+/// (docs/validation.md, "Slopes held where their rounds end") it settles
+/// the drifts and loses cycles elsewhere, so it only follows the halving.
+#[derive(Clone, Debug)]
 pub struct FixedPointDamping {
     previous: f64,
     weight: f64,
+    /// Aitken's rule: the last round's whole update `r_(k−1)`; `None`
+    /// under the halving rule.
+    whole: Option<Vec<f64>>,
 }
 
 impl Default for FixedPointDamping {
@@ -286,6 +305,7 @@ impl Default for FixedPointDamping {
         Self {
             previous: f64::INFINITY,
             weight: 1.0,
+            whole: None,
         }
     }
 }
@@ -293,6 +313,27 @@ impl Default for FixedPointDamping {
 impl FixedPointDamping {
     /// Rounds taken whole before each new correction is blended.
     pub const WHOLE_ROUNDS: usize = 4;
+
+    /// The smallest weight β.
+    pub const LEAST_WEIGHT: f64 = 1.0 / 16.0;
+
+    /// The damping under Aitken's rule (the type's docs).
+    pub fn aitken() -> Self {
+        Self {
+            whole: Some(Vec::new()),
+            ..Self::default()
+        }
+    }
+
+    /// Rounds taken whole: [`Self::WHOLE_ROUNDS`] under the halving rule,
+    /// two under Aitken's (the two updates its first weight needs).
+    fn whole_rounds(&self) -> usize {
+        if self.whole.is_some() {
+            2
+        } else {
+            Self::WHOLE_ROUNDS
+        }
+    }
 
     /// Round `round`'s correction `c`, blended with `used` (the one last
     /// solved with) once the whole rounds are spent; `n` asperities.
@@ -307,7 +348,7 @@ impl FixedPointDamping {
         c: PairCorrection,
         n: usize,
     ) -> Result<PairCorrection, SolveError> {
-        if round <= Self::WHOLE_ROUNDS {
+        if round <= self.whole_rounds() {
             return Ok(c);
         }
         let beta = self.weight;
@@ -327,11 +368,36 @@ impl FixedPointDamping {
     /// set the next rounds' weight.
     pub fn change(&mut self, round: usize, next: &[f64], last: &[f64], scale: f64) -> f64 {
         let change = largest_change(next, last) / scale;
-        if round >= Self::WHOLE_ROUNDS && change > 0.5 * self.previous {
-            self.weight = (0.5 * self.weight).max(1.0 / 16.0);
+        let whole_rounds = self.whole_rounds();
+        let used = if round > whole_rounds {
+            self.weight
+        } else {
+            1.0
+        };
+        if let Some(before) = &mut self.whole {
+            let whole: Vec<f64> = next.iter().zip(last).map(|(a, b)| (a - b) / used).collect();
+            if round >= whole_rounds && whole.len() == before.len() {
+                let (mut along, mut norm) = (0.0, 0.0);
+                for (r, r0) in whole.iter().zip(before.iter()) {
+                    along += r0 * (r - r0);
+                    norm += (r - r0) * (r - r0);
+                }
+                let aitken = -used * along / norm;
+                if aitken.is_finite() {
+                    self.weight = aitken.clamp(Self::LEAST_WEIGHT, 1.0);
+                }
+            }
+            *before = whole;
+        } else if round >= Self::WHOLE_ROUNDS && change > 0.5 * self.previous {
+            self.weight = (0.5 * self.weight).max(Self::LEAST_WEIGHT);
         }
         self.previous = change;
         change
+    }
+
+    /// The weight β the next blended round takes.
+    pub fn weight(&self) -> f64 {
+        self.weight
     }
 }
 
@@ -374,6 +440,49 @@ mod tests {
                 .unwrap()
                 .is_empty()
         );
+    }
+
+    /// Aitken's weight: a cycle (each whole update the last one reversed,
+    /// 0.9 as large) brings β down by 1.9 a round to its floor; a drift
+    /// (each 0.97 of the last, the same way) lifts it back to 1, where the
+    /// halving rule stays at its floor; both whole for their first rounds.
+    #[test]
+    fn aitkens_damping_falls_on_a_cycle_and_recovers_on_a_drift() {
+        let run = |mut d: FixedPointDamping, ratios: &[f64]| -> Vec<f64> {
+            let mut forces = vec![10.0, 20.0];
+            let mut whole = [0.1, -0.1];
+            let mut weights = Vec::new();
+            for (k, &ratio) in ratios.iter().enumerate() {
+                let round = k + 1;
+                whole = [whole[0] * ratio, whole[1] * ratio];
+                let beta = if round > d.whole_rounds() {
+                    d.weight()
+                } else {
+                    1.0
+                };
+                let next: Vec<f64> = forces
+                    .iter()
+                    .zip(whole)
+                    .map(|(p, r)| p + beta * r)
+                    .collect();
+                d.change(round, &next, &forces, 100.0);
+                forces = next;
+                weights.push(d.weight());
+            }
+            weights
+        };
+        let mut ratios = vec![-0.9; 8];
+        ratios.extend([0.97; 3]);
+        let aitken = run(FixedPointDamping::aitken(), &ratios);
+        assert_eq!(aitken[0], 1.0);
+        for (k, b) in aitken[1..5].iter().enumerate() {
+            let expected = 1.9f64.powi(-(k as i32 + 1));
+            assert!((b - expected).abs() < 1e-12, "{aitken:?}");
+        }
+        assert_eq!(aitken[7], FixedPointDamping::LEAST_WEIGHT);
+        assert_eq!(aitken[10], 1.0, "{aitken:?}");
+        let halving = run(FixedPointDamping::default(), &ratios);
+        assert_eq!(halving[10], FixedPointDamping::LEAST_WEIGHT, "{halving:?}");
     }
 
     #[test]

@@ -561,18 +561,29 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     // The rounds with the slopes moving; when those end unsettled, the same
     // fixed point again with the slopes held where they left them
     // (`HELD_SLOPES_LIMIT`), its residual the moving rounds' last change.
+    //
+    // Still unsettled at fixed slopes (held, or the profile's), the same
+    // fixed point goes on from where it stopped under Aitken's damping
+    // (`FixedPointDamping::aitken`): a contact drawing load round after
+    // round crawls under the halving rule's floor.
     let mut held_after = None;
-    for move_slopes in [true, false] {
-        if !move_slopes {
-            if slopes.is_none()
-                || change <= coupling.acceptable_tolerance()
-                || change > HELD_SLOPES_LIMIT
-            {
-                break;
+    for pass in [Pass::MovingSlopes, Pass::HeldSlopes, Pass::Aitken] {
+        let unsettled = change > coupling.acceptable_tolerance();
+        match pass {
+            Pass::MovingSlopes => {}
+            Pass::HeldSlopes if slopes.is_none() || !unsettled || change > HELD_SLOPES_LIMIT => {
+                continue;
             }
-            held_after = Some(change);
+            Pass::HeldSlopes => held_after = Some(change),
+            // Slopes still moving too far to hold: the step's failure.
+            Pass::Aitken if !unsettled || (slopes.is_some() && held_after.is_none()) => break,
+            Pass::Aitken => {}
         }
-        let mut damping = FixedPointDamping::default();
+        let move_slopes = pass == Pass::MovingSlopes;
+        let mut damping = match pass {
+            Pass::Aitken => FixedPointDamping::aitken(),
+            _ => FixedPointDamping::default(),
+        };
         let mut mixer = SlopeMixer::default();
         for round in 1..=coupling.max_rounds() {
             // The deformed tread's slopes follow the last round's forces (mixed
@@ -632,6 +643,19 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
         load_steps: 0,
         residual: change,
     }))
+}
+
+/// The passes of a coupled step's fixed point ([`fixed_point`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pass {
+    /// The rounds, the deformed tread's slopes moving with them (or the
+    /// profile's, fixed).
+    MovingSlopes,
+    /// The same fixed point with the slopes held where the first pass
+    /// left them.
+    HeldSlopes,
+    /// The same again, at fixed slopes, under Aitken's damping.
+    Aitken,
 }
 
 /// The record of a step whose solve failed: NaN values, no contacts.
