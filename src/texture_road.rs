@@ -27,12 +27,10 @@
 
 use std::sync::Arc;
 
-use rayon::prelude::*;
-
 use crate::asperity::{CapGeometry, TabulatedCap};
 use crate::contact_law::{C_SPHERE, LawError, LocalRule, Material, PotentialLaw};
 use crate::multipoint::AsperitySet;
-use crate::shared::{Par, is_parallel, run_at};
+use crate::shared::{Par, map_at};
 use crate::texture::{
     Asperity, CapOptions, HeightMap, SegmentOptions, Segmentation, TextureError, UNLABELLED,
     asperity_cap, segment, split_wide_tops,
@@ -205,11 +203,7 @@ pub fn texture_road(
         .map(Some)
         .map_err(|source| TextureRoadError::Law { index: k, source })
     };
-    let built: Vec<Result<Option<TextureLaw>, TextureRoadError>> = if is_parallel(opts.par) {
-        run_at(opts.par, || (0..n).into_par_iter().map(law_of).collect())
-    } else {
-        (0..n).map(law_of).collect()
-    };
+    let built: Vec<Result<Option<TextureLaw>, TextureRoadError>> = map_at(opts.par, n, law_of);
     let mut positions = Vec::with_capacity(n);
     let mut heights = Vec::with_capacity(n);
     let mut laws = Vec::with_capacity(n);

@@ -25,9 +25,7 @@
 
 use crate::bem::{BemError, BemOptions, Control, Solver};
 use crate::rolling::{RollingConfig, RollingResult};
-use rayon::prelude::*;
-
-use crate::shared::{Field, Grid, Material, Par, is_parallel, run_at};
+use crate::shared::{Field, Grid, Material, Par, map_at};
 use crate::texture::HeightMap;
 use crate::texture_road::TextureRoad;
 
@@ -250,14 +248,7 @@ pub fn cap_sensor_forces_by_step(
         }
         Ok(Ok(out))
     };
-    let steps = run.steps.len();
-    if is_parallel(par) {
-        run_at(par, || {
-            (0..steps).into_par_iter().map(step_forces).collect()
-        })
-    } else {
-        (0..steps).map(step_forces).collect()
-    }
+    map_at(par, run.steps.len(), step_forces)
 }
 
 /// The BEM pressure of basin `b` alone under the tread at `xc`, carrying

@@ -11,7 +11,7 @@ use nalgebra::Point3;
 use parry3d_f64::math::Vector;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
-use crate::run_out::{RunOut, past_the_end};
+use crate::run_out::{RunOut, past_the_end, with_run_out_ends};
 use crate::{CapGeometry, CapMeasures, GeometryError, MeshBuffers};
 
 /// One triangle, in coordinates relative to the summit (local `z ≤ 0`).
@@ -75,9 +75,9 @@ impl Acc {
 ///
 /// The cutting plane at depth `δ` is `z = z_summit − δ`. A vertex is *above*
 /// when its height exceeds the plane's by more than `1e-10` of the mesh's
-/// height (a vertex lying on the plane, to rounding, counts as below). Every triangle with a vertex above is clipped
-/// to its part above the plane (a triangle, or a quadrilateral), and with `O` a
-/// point of the plane:
+/// height (a vertex lying on the plane, to rounding, counts as below). Every
+/// triangle with a vertex above is clipped to its part above the plane (a
+/// triangle, or a quadrilateral), and with `O` a point of the plane:
 ///
 /// - `Ω = Σ det(p₀ − O, pᵢ − O, pᵢ₊₁ − O) / 6` over the fans of the kept
 ///   parts: the divergence theorem on the closed surface "kept parts + flat
@@ -652,14 +652,11 @@ impl CapGeometry for MeshAsperity {
     /// `max_depth`, then the ends of the run-outs of `Σ` and `Γ`: where a
     /// law scans for stretches too soft to solve.
     fn breakpoints(&self) -> Vec<f64> {
-        let mut ends = vec![
-            self.max_depth,
-            self.max_depth + self.area_run_out.len,
-            self.max_depth + self.perimeter_run_out.len,
-        ];
-        ends.sort_by(f64::total_cmp);
-        ends.dedup();
-        ends
+        with_run_out_ends(
+            vec![self.max_depth],
+            &self.area_run_out,
+            &self.perimeter_run_out,
+        )
     }
 }
 
@@ -694,10 +691,9 @@ fn clip(t: &Tri, depth: f64, on_plane: f64) -> (Acc, [bool; 3]) {
         let dy = pb[1] - pa[1];
         ([pa[0] + s * dx, pa[1] + s * dy, 0.0], [dx / dz, dy / dz])
     };
-    // The plane through (to rounding) the one vertex below two above: the
-    // cut segment has just shrunk to nothing there.
-    let mut vanishing = false;
-    let (poly, n, (q0, v0), (q1, v1)) = if n_above == 1 {
+    // `vanishing`: the plane through (to rounding) the one vertex below two
+    // above, where the cut segment has just shrunk to nothing.
+    let (poly, n, (q0, v0), (q1, v1), vanishing) = if n_above == 1 {
         let i = if above[0] {
             0
         } else if above[1] {
@@ -708,7 +704,7 @@ fn clip(t: &Tri, depth: f64, on_plane: f64) -> (Acc, [bool; 3]) {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
         let c0 = cut(i, j);
         let c1 = cut(i, k);
-        ([p(i), c0.0, c1.0, [0.0; 3]], 3, c0, c1)
+        ([p(i), c0.0, c1.0, [0.0; 3]], 3, c0, c1, false)
     } else {
         // Two above: `i` is the one below.
         let i = if !above[0] {
@@ -719,10 +715,9 @@ fn clip(t: &Tri, depth: f64, on_plane: f64) -> (Acc, [bool; 3]) {
             2
         };
         let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-        vanishing = h[i] >= -on_plane;
         let c0 = cut(b, i);
         let c1 = cut(a, i);
-        ([p(a), p(b), c0.0, c1.0], 4, c0, c1)
+        ([p(a), p(b), c0.0, c1.0], 4, c0, c1, h[i] >= -on_plane)
     };
     let mut acc = Acc::default();
     for m in 1..n - 1 {

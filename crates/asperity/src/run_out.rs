@@ -55,6 +55,27 @@ impl RunOut {
     }
 }
 
+/// `knots` (ending at the described shape's last depth) followed by the
+/// depths where the run-outs of `Σ` and `Γ` reach their walls, in order,
+/// each once: the breakpoints a law scans.
+pub(crate) fn with_run_out_ends(
+    mut knots: Vec<f64>,
+    area: &RunOut,
+    perimeter: &RunOut,
+) -> Vec<f64> {
+    let Some(&end) = knots.last() else {
+        return knots;
+    };
+    let mut ends = [end + area.len, end + perimeter.len];
+    ends.sort_by(f64::total_cmp);
+    for e in ends {
+        if knots.last().is_some_and(|&last| e > last) {
+            knots.push(e);
+        }
+    }
+    knots
+}
+
 /// The measures at distance `past ≥ 0` beyond the end of a described shape,
 /// `volume` its `Ω` there, each of `Σ` and `Γ` along its run-out.
 pub(crate) fn past_the_end(

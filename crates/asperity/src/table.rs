@@ -1,7 +1,7 @@
 //! Caps tabulated on a grid of depths, interpolated smoothly and monotonically
 //! for fast evaluation inside the Newton solver.
 
-use crate::run_out::{RunOut, hermite, hermite_integral, past_the_end};
+use crate::run_out::{RunOut, hermite, hermite_integral, past_the_end, with_run_out_ends};
 use crate::{CapGeometry, CapMeasures, GeometryError};
 use tyreroad_core::{PchipRule, pchip_slopes};
 
@@ -406,15 +406,10 @@ impl CapGeometry for TabulatedCap {
 
     /// The nodes, then the ends of the run-outs of `Σ` and `Γ`.
     fn breakpoints(&self) -> Vec<f64> {
-        let mut b = self.table.depth.clone();
-        let last = self.max_depth();
-        let mut ends = [last + self.area_tail.len, last + self.perimeter_tail.len];
-        ends.sort_by(f64::total_cmp);
-        for e in ends {
-            if e > b[b.len() - 1] {
-                b.push(e);
-            }
-        }
-        b
+        with_run_out_ends(
+            self.table.depth.clone(),
+            &self.area_tail,
+            &self.perimeter_tail,
+        )
     }
 }

@@ -80,5 +80,5 @@ pub mod validate;
 pub use error::CoreError;
 pub use grid::{Field, Grid, MAX_CELLS};
 pub use material::Material;
-pub use par::{Par, is_parallel, run_at, thread_count};
+pub use par::{Par, is_parallel, map_at, run_at, thread_count};
 pub use pchip::{PchipRule, pchip_slopes};

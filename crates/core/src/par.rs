@@ -36,6 +36,22 @@ pub fn run_at<R: Send>(par: Par, f: impl FnOnce() -> R + Send) -> R {
     }
 }
 
+/// `f(0), …, f(n − 1)` collected in order, at parallelism `par`: on the
+/// calling thread for [`Par::Seq`] (not rayon's global pool), else over
+/// the pool [`run_at`] picks.
+pub fn map_at<R, C>(par: Par, n: usize, f: impl Fn(usize) -> R + Sync + Send) -> C
+where
+    R: Send,
+    C: FromIterator<R> + rayon::iter::FromParallelIterator<R> + Send,
+{
+    use rayon::prelude::*;
+    if is_parallel(par) {
+        run_at(par, || (0..n).into_par_iter().map(f).collect())
+    } else {
+        (0..n).map(f).collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -49,5 +65,17 @@ mod tests {
         assert_eq!(thread_count(Par::Seq), 1);
         assert_eq!(thread_count(Par::rayon(2)), 2);
         assert!(is_parallel(Par::rayon(1)) && !is_parallel(Par::Seq));
+    }
+
+    #[test]
+    fn map_at_keeps_the_order_whatever_the_parallelism() {
+        let square = |k: usize| k * k;
+        let seq: Vec<usize> = map_at(Par::Seq, 1000, square);
+        let par: Vec<usize> = map_at(Par::rayon(3), 1000, square);
+        assert_eq!(seq, par);
+        assert_eq!(seq[999], 998_001);
+        let failed: Result<Vec<usize>, usize> =
+            map_at(Par::rayon(2), 10, |k| if k == 7 { Err(k) } else { Ok(k) });
+        assert_eq!(failed, Err(7));
     }
 }

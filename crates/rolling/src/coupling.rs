@@ -240,7 +240,7 @@ pub fn stalled_fixed_point(s: Solution, change: f64, acceptable: f64) -> Option<
 
 /// `s` kept, marked stagnated at `residual` (a step's solution short of its
 /// tolerance, or of its slopes' fixed point, by that much).
-pub fn kept_stagnated(mut s: Solution, residual: f64) -> Solution {
+pub(crate) fn kept_stagnated(mut s: Solution, residual: f64) -> Solution {
     s.residual = s.residual.max(residual);
     s.convergence = Convergence::Stagnated { residual };
     s
@@ -293,19 +293,27 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// the drifts and loses cycles elsewhere, so it only follows the halving.
 #[derive(Clone, Debug)]
 pub struct FixedPointDamping {
-    previous: f64,
     weight: f64,
-    /// Aitken's rule: the last round's whole update `r_(k−1)`; `None`
-    /// under the halving rule.
-    whole: Option<Vec<f64>>,
+    rule: Rule,
+}
+
+/// How [`FixedPointDamping`] sets its weight, with what each rule keeps of
+/// the rounds before.
+#[derive(Clone, Debug)]
+enum Rule {
+    /// Halved when a round does not halve the change: the last change.
+    Halving { previous: f64 },
+    /// Aitken's: the last round's whole update `r_(k−1)`.
+    Aitken { whole: Vec<f64> },
 }
 
 impl Default for FixedPointDamping {
     fn default() -> Self {
         Self {
-            previous: f64::INFINITY,
             weight: 1.0,
-            whole: None,
+            rule: Rule::Halving {
+                previous: f64::INFINITY,
+            },
         }
     }
 }
@@ -320,18 +328,17 @@ impl FixedPointDamping {
     /// The damping under Aitken's rule (the type's docs).
     pub fn aitken() -> Self {
         Self {
-            whole: Some(Vec::new()),
-            ..Self::default()
+            weight: 1.0,
+            rule: Rule::Aitken { whole: Vec::new() },
         }
     }
 
     /// Rounds taken whole: [`Self::WHOLE_ROUNDS`] under the halving rule,
     /// two under Aitken's (the two updates its first weight needs).
     fn whole_rounds(&self) -> usize {
-        if self.whole.is_some() {
-            2
-        } else {
-            Self::WHOLE_ROUNDS
+        match self.rule {
+            Rule::Halving { .. } => Self::WHOLE_ROUNDS,
+            Rule::Aitken { .. } => 2,
         }
     }
 
@@ -369,29 +376,34 @@ impl FixedPointDamping {
     pub fn change(&mut self, round: usize, next: &[f64], last: &[f64], scale: f64) -> f64 {
         let change = largest_change(next, last) / scale;
         let whole_rounds = self.whole_rounds();
-        let used = if round > whole_rounds {
-            self.weight
-        } else {
-            1.0
-        };
-        if let Some(before) = &mut self.whole {
-            let whole: Vec<f64> = next.iter().zip(last).map(|(a, b)| (a - b) / used).collect();
-            if round >= whole_rounds && whole.len() == before.len() {
-                let (mut along, mut norm) = (0.0, 0.0);
-                for (r, r0) in whole.iter().zip(before.iter()) {
-                    along += r0 * (r - r0);
-                    norm += (r - r0) * (r - r0);
+        match &mut self.rule {
+            Rule::Halving { previous } => {
+                if round >= whole_rounds && change > 0.5 * *previous {
+                    self.weight = (0.5 * self.weight).max(Self::LEAST_WEIGHT);
                 }
-                let aitken = -used * along / norm;
-                if aitken.is_finite() {
-                    self.weight = aitken.clamp(Self::LEAST_WEIGHT, 1.0);
-                }
+                *previous = change;
             }
-            *before = whole;
-        } else if round >= Self::WHOLE_ROUNDS && change > 0.5 * self.previous {
-            self.weight = (0.5 * self.weight).max(Self::LEAST_WEIGHT);
+            Rule::Aitken { whole: before } => {
+                let used = if round > whole_rounds {
+                    self.weight
+                } else {
+                    1.0
+                };
+                let whole: Vec<f64> = next.iter().zip(last).map(|(a, b)| (a - b) / used).collect();
+                if round >= whole_rounds && whole.len() == before.len() {
+                    let (mut along, mut norm) = (0.0, 0.0);
+                    for (r, r0) in whole.iter().zip(before.iter()) {
+                        along += r0 * (r - r0);
+                        norm += (r - r0) * (r - r0);
+                    }
+                    let aitken = -used * along / norm;
+                    if aitken.is_finite() {
+                        self.weight = aitken.clamp(Self::LEAST_WEIGHT, 1.0);
+                    }
+                }
+                *before = whole;
+            }
         }
-        self.previous = change;
         change
     }
 

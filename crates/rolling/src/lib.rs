@@ -138,7 +138,7 @@ pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinis
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl, path_steps};
 pub use coupling::{
     CouplingState, FirstSolve, FixedPointDamping, KeptCoupling, Spread, Start, StepCoupling,
-    first_solve, kept_stagnated, stalled_fixed_point,
+    first_solve, stalled_fixed_point,
 };
 pub use placement::Placement;
 pub use record::{
