@@ -230,6 +230,89 @@ pub fn first_solve(
     })
 }
 
+/// A coupled step's fixed point between rounds (the elastic step's and
+/// the viscoelastic one's): the last solution, the correction it was
+/// solved with, the Newton iterations spent on the step so far, and the
+/// last round's change of the forces over the step's scale.
+#[derive(Clone, Debug)]
+pub struct FixedPoint {
+    /// The last round's solution.
+    pub solution: Solution,
+    /// The correction it was solved with.
+    pub used: PairCorrection,
+    /// Newton iterations spent on the step, every round's.
+    pub iterations: usize,
+    /// `max_i |Pʳ_i − Pʳ⁻¹_i| / scale` of the last round (∞ before one).
+    pub change: f64,
+}
+
+impl FixedPoint {
+    /// The fixed point after the step's first solve.
+    pub fn new(first: Solution, used: PairCorrection, iterations: usize) -> Self {
+        Self {
+            solution: first,
+            used,
+            iterations,
+            change: f64::INFINITY,
+        }
+    }
+
+    /// Takes round `round`'s solution `next`, solved with `c`: its change
+    /// recorded by `damping` (which sets the next rounds' weight). True
+    /// when the change is within the coupling's tolerance: the rounds are
+    /// told to the coupling ([`StepCoupling::settled`]) and the solution
+    /// carries the step's iterations.
+    pub fn take<L>(
+        &mut self,
+        (round, next, c): (usize, Solution, PairCorrection),
+        damping: &mut FixedPointDamping,
+        scale: f64,
+        coupling: &dyn StepCoupling<L>,
+    ) -> bool {
+        self.iterations += next.iterations;
+        self.used = c;
+        self.change = damping.change(round, &next.forces, &self.solution.forces, scale);
+        self.solution = next;
+        let settled = self.change <= coupling.tolerance();
+        if settled {
+            coupling.settled(round);
+            self.solution.iterations = self.iterations;
+        }
+        settled
+    }
+
+    /// The fixed point after its rounds, unsettled: kept, marked
+    /// stagnated, when its last change (or the larger `moving`, the change
+    /// of slopes that were held since) is within `acceptable`
+    /// ([`stalled_fixed_point`]); else the step's failure, that change its
+    /// residual.
+    ///
+    /// # Errors
+    /// [`SolveError::NotConverged`] with the step's iterations.
+    pub fn ended(
+        self,
+        moving: Option<f64>,
+        acceptable: f64,
+    ) -> Result<(Solution, PairCorrection), SolveError> {
+        let Self {
+            mut solution,
+            used,
+            iterations,
+            change,
+        } = self;
+        solution.iterations = iterations;
+        let change = moving.map_or(change, |moving| moving.max(change));
+        match stalled_fixed_point(solution, change, acceptable) {
+            Some(s) => Ok((s, used)),
+            None => Err(SolveError::NotConverged {
+                iterations,
+                load_steps: 0,
+                residual: change,
+            }),
+        }
+    }
+}
+
 /// A coupled step's last solve `s` after its fixed point spent its rounds
 /// with `change` as the last change: kept, marked stagnated, when `change`
 /// is within `acceptable` ([`StepCoupling::acceptable_tolerance`]), else

@@ -137,8 +137,8 @@ mod tread;
 pub use checkpoint::{RoadDigest, input_hash, remove_unfinished as remove_unfinished_checkpoints};
 pub use config::{CheckpointOptions, MAX_STEPS, RollingConfig, RollingControl, path_steps};
 pub use coupling::{
-    CouplingState, FirstSolve, FixedPointDamping, KeptCoupling, Spread, Start, StepCoupling,
-    first_solve, stalled_fixed_point,
+    CouplingState, FirstSolve, FixedPoint, FixedPointDamping, KeptCoupling, Spread, Start,
+    StepCoupling, first_solve, stalled_fixed_point,
 };
 pub use placement::Placement;
 pub use record::{

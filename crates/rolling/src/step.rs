@@ -9,8 +9,8 @@ use tyreroad_multipoint::{
 };
 
 use crate::coupling::{
-    CouplingState, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve, force_scale,
-    kept_stagnated, stalled_fixed_point,
+    CouplingState, FixedPoint, FixedPointDamping, KeptCoupling, Start, StepCoupling, first_solve,
+    force_scale, kept_stagnated,
 };
 use crate::placement::{placed_laws, step_laws, unplaced};
 use crate::slope::SlopeMixer;
@@ -535,18 +535,18 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
         Ok(first) => first,
         Err(e) => return Ok(Err(e)),
     };
-    let mut used = match first.start {
+    let used = match first.start {
         Start::Warm => warm.clone(),
         Start::Cold => PairCorrection::default(),
     };
-    let mut s = first.solution;
-    let mut iterations = first.spent + s.iterations;
-    let scale = force_scale(control, &s.forces);
+    let iterations = first.spent + first.solution.iterations;
+    let scale = force_scale(control, &first.solution.forces);
     if !(scale > 0.0) {
         // Nothing in contact: nothing to couple.
         coupling.settled(0);
-        return Ok(Ok((s, PairCorrection::default())));
+        return Ok(Ok((first.solution, PairCorrection::default())));
     }
+    let mut fp = FixedPoint::new(first.solution, used, iterations);
     let offsets_of = |problem: &Problem<&L>| -> Vec<[f64; 2]> {
         ids.iter()
             .zip(problem.positions())
@@ -557,7 +557,6 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
             .collect()
     };
     let mut offsets = offsets_of(problem);
-    let mut change = f64::INFINITY;
     // The rounds with the slopes moving; when those end unsettled, the same
     // fixed point again with the slopes held where they left them
     // (`HELD_SLOPES_LIMIT`), its residual the moving rounds' last change.
@@ -568,6 +567,7 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
     // round crawls under the halving rule's floor.
     let mut held_after = None;
     for pass in [Pass::MovingSlopes, Pass::HeldSlopes, Pass::Aitken] {
+        let change = fp.change;
         let unsettled = change > coupling.acceptable_tolerance();
         match pass {
             Pass::MovingSlopes => {}
@@ -590,59 +590,46 @@ fn fixed_point<'p, L: ContactLaw + Sync>(
             // with the rounds before, as the uncoupled step's); the contact
             // points, gaps and kernel move with them.
             if let Some(current) = slopes.as_mut().filter(|_| move_slopes) {
-                let radii = contact_radii(&s, problem);
-                if let Some(next) = deformed_slopes(road, material, config, ids, &s.forces, &radii)
+                let radii = contact_radii(&fp.solution, problem);
+                if let Some(next) =
+                    deformed_slopes(road, material, config, ids, &fp.solution.forces, &radii)
                 {
                     *current = mixer.next(current, &next);
                 }
                 *problem = build_at(road, material, config, xc, ids, laws, true, Some(current))?;
                 offsets = offsets_of(problem);
-                s = consistent_start(problem, &s, &used);
+                fp.solution = consistent_start(problem, &fp.solution, &fp.used);
             }
             let state = CouplingState {
                 ids,
                 problem,
                 offsets: &offsets,
-                depths: &s.depths,
-                forces: &s.forces,
+                depths: &fp.solution.depths,
+                forces: &fp.solution.forces,
             };
             let c = coupling.correction(&state).map_err(|m| {
                 RollingError::InvalidInput(format!("step at x = {xc} m: coupling: {m}"))
             })?;
             let c = damping
-                .relax(round, &used, c, problem.len())
+                .relax(round, &fp.used, c, problem.len())
                 .map_err(|source| RollingError::Solve {
                     position: xc,
                     source,
                 })?;
-            let next = match solve_corrected(problem, control, options, Some(&s), &c) {
+            let next = match solve_corrected(problem, control, options, Some(&fp.solution), &c) {
                 Ok(next) => next,
                 Err(e) => return Ok(Err(e)),
             };
-            iterations += next.iterations;
-            used = c;
-            change = damping.change(round, &next.forces, &s.forces, scale);
-            s = next;
-            if change <= coupling.tolerance() {
-                coupling.settled(round);
-                s.iterations = iterations;
-                if let Some(moving) = held_after {
-                    s = kept_stagnated(s, moving);
-                }
-                return Ok(Ok((s, used)));
+            if fp.take((round, next, c), &mut damping, scale, coupling) {
+                let s = match held_after {
+                    Some(moving) => kept_stagnated(fp.solution, moving),
+                    None => fp.solution,
+                };
+                return Ok(Ok((s, fp.used)));
             }
         }
     }
-    s.iterations = iterations;
-    let change = held_after.map_or(change, |moving| moving.max(change));
-    if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
-        return Ok(Ok((s, used)));
-    }
-    Ok(Err(SolveError::NotConverged {
-        iterations,
-        load_steps: 0,
-        residual: change,
-    }))
+    Ok(fp.ended(held_after, coupling.acceptable_tolerance()))
 }
 
 /// The passes of a coupled step's fixed point ([`fixed_point`]).

@@ -29,8 +29,10 @@
 //!
 //! with the elastic step's damping (from the fifth round, a blend of the
 //! new correction with the last one solved with, its weight halved when a
-//! round does not halve the change). A step still moving after the
-//! coupling's rounds is that step's recorded failure, its residual the
+//! round does not halve the change), and, as there, a fixed point those
+//! rounds leave unsettled goes on under Aitken's weight for as many rounds
+//! again (`FixedPointDamping::aitken`). A step still moving after them is
+//! that step's recorded failure, its residual the
 //! last change over the scale; its memories are held as for a failed
 //! solve. The caller is handed the step's asperities at their contact
 //! points, their depths, and as "forces" the drivers of the displacement,
@@ -51,8 +53,8 @@ use tyreroad_multipoint::{
     Control, PairCorrection, Par, Problem, Solution, SolveError, SolverOptions, solve_corrected,
 };
 use tyreroad_rolling::{
-    CouplingState, FixedPointDamping, Road, RollingConfig, RollingError, Start, StepCoupling,
-    StepRecord, contact_point, first_solve, stalled_fixed_point,
+    CouplingState, FixedPoint, FixedPointDamping, Road, RollingConfig, RollingError, Start,
+    StepCoupling, StepRecord, contact_point, first_solve,
 };
 
 use super::{Runner, ViscoRollOptions, ViscoRolling, roll_with, warm_start};
@@ -256,16 +258,15 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             Start::Warm => warm,
             Start::Cold => &cold,
         };
-        let mut s = first.solution;
-        let mut iterations = first.spent + s.iterations;
+        let iterations = first.spent + first.solution.iterations;
         let scale = match step.control {
             Control::Load(w) => w,
-            Control::Approach(_) => s.forces.iter().sum(),
+            Control::Approach(_) => first.solution.forces.iter().sum(),
         };
         if !(scale > 0.0) {
             // Nothing in contact: nothing to couple.
             coupling.settled(0);
-            return Ok(Ok((s, warm.clone())));
+            return Ok(Ok((first.solution, warm.clone())));
         }
         // The coupling's view: the elastic laws at the reference modulus,
         // at their contact points.
@@ -283,59 +284,55 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
             .zip(frame.points)
             .map(|(&i, p)| [p[0] - summits[i][0], p[1] - summits[i][1]])
             .collect();
-        let (mut used, mut change, mut damping) =
-            (warm.clone(), f64::INFINITY, FixedPointDamping::default());
-        for round in 1..=coupling.max_rounds() {
-            // The displacement's drivers, `E_eff w = p − h`.
-            let drivers: Vec<f64> = s
-                .forces
-                .iter()
-                .zip(frame.memory)
-                .map(|(p, m)| p + m)
-                .collect();
-            let state = CouplingState {
-                ids: frame.ids,
-                problem: &base,
-                offsets: &offsets,
-                depths: &s.depths,
-                forces: &drivers,
-            };
-            let mut c_ref = coupling
-                .correction(&state)
-                .map_err(|m| ViscoError::Rolling {
-                    source: RollingError::InvalidInput(format!(
-                        "step at x = {xc} m: coupling: {m}"
-                    )),
-                })?;
-            // The elastic step's damping (docs/rolling.md, "Coupled steps"):
-            // the same fixed point, cycles between overlapping patches damped.
-            c_ref = damping
-                .relax(round, &used, c_ref, frame.ids.len())
-                .map_err(solve_error)?;
-            let (problem, c) = self.frame_problem(frame, &c_ref).map_err(solve_error)?;
-            let next = match solve_corrected(&problem, step.control, &options, Some(&s), &c) {
-                Ok(next) => next,
-                Err(e) => return Ok(Err(e)),
-            };
-            iterations += next.iterations;
-            used = c_ref;
-            change = damping.change(round, &next.forces, &s.forces, scale);
-            s = next;
-            if change <= coupling.tolerance() {
-                coupling.settled(round);
-                s.iterations = iterations;
-                return Ok(Ok((s, used)));
+        let mut fp = FixedPoint::new(first.solution, warm.clone(), iterations);
+        // The rounds under the elastic step's halving damping; a fixed point
+        // they leave unsettled goes on from where it stopped under Aitken's
+        // (the elastic step's rescue pass, docs/rolling.md "Coupled steps").
+        for mut damping in [FixedPointDamping::default(), FixedPointDamping::aitken()] {
+            if fp.change <= coupling.acceptable_tolerance() {
+                break;
+            }
+            for round in 1..=coupling.max_rounds() {
+                // The displacement's drivers, `E_eff w = p − h`.
+                let drivers: Vec<f64> = fp
+                    .solution
+                    .forces
+                    .iter()
+                    .zip(frame.memory)
+                    .map(|(p, m)| p + m)
+                    .collect();
+                let state = CouplingState {
+                    ids: frame.ids,
+                    problem: &base,
+                    offsets: &offsets,
+                    depths: &fp.solution.depths,
+                    forces: &drivers,
+                };
+                let mut c_ref = coupling
+                    .correction(&state)
+                    .map_err(|m| ViscoError::Rolling {
+                        source: RollingError::InvalidInput(format!(
+                            "step at x = {xc} m: coupling: {m}"
+                        )),
+                    })?;
+                // The elastic step's damping (docs/rolling.md, "Coupled steps"):
+                // the same fixed point, cycles between overlapping patches damped.
+                c_ref = damping
+                    .relax(round, &fp.used, c_ref, frame.ids.len())
+                    .map_err(solve_error)?;
+                let (problem, c) = self.frame_problem(frame, &c_ref).map_err(solve_error)?;
+                let next =
+                    match solve_corrected(&problem, step.control, &options, Some(&fp.solution), &c)
+                    {
+                        Ok(next) => next,
+                        Err(e) => return Ok(Err(e)),
+                    };
+                if fp.take((round, next, c_ref), &mut damping, scale, coupling) {
+                    return Ok(Ok((fp.solution, fp.used)));
+                }
             }
         }
-        s.iterations = iterations;
-        if let Some(s) = stalled_fixed_point(s, change, coupling.acceptable_tolerance()) {
-            return Ok(Ok((s, used)));
-        }
-        Ok(Err(SolveError::NotConverged {
-            iterations,
-            load_steps: 0,
-            residual: change,
-        }))
+        Ok(fp.ended(None, coupling.acceptable_tolerance()))
     }
 
     /// The step's problem under the reference correction `c_ref`: modulus
