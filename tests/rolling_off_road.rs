@@ -1,7 +1,9 @@
 //! A rolling path that misses the road is refused naming the keys and the
-//! road's extent, not with a bare "no asperity under the footprint".
+//! road's extent, not with a bare "no asperity under the footprint"; what
+//! a path misses or overloads (a footprint off the road, a sensor no
+//! footprint covers, a load no linear tread carries) is warned of.
 
-use tyreroad::scenario::{RunOptions, Scenario};
+use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
 
 /// Why the scenario `text` (files under `base`) does not run (empty if it
 /// runs).
@@ -12,6 +14,18 @@ fn refusal(text: &str, base: &str) -> String {
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default()
+}
+
+/// The road summary's warnings of the rolling scenario `text`, run.
+fn road_warnings(text: &str) -> Vec<String> {
+    let ScenarioResult::Rolling(run) = Scenario::parse(text, "warned")
+        .expect("parses")
+        .run(&RunOptions::new("."))
+        .expect("runs")
+    else {
+        panic!("not a rolling run");
+    };
+    run.road.warnings().to_vec()
 }
 
 #[test]
@@ -64,19 +78,9 @@ fn a_calibrated_path_beside_the_road_is_refused_as_a_wilke_one_is() {
 /// now warns with both extents; the fixture's own path is not warned of.
 #[test]
 fn a_footprint_reaching_off_a_synthetic_road_is_warned_of() {
-    use tyreroad::scenario::ScenarioResult;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/rolling_small.toml");
     let text = std::fs::read_to_string(path).expect("fixture");
-    let warnings = |text: &str| {
-        let ScenarioResult::Rolling(run) = Scenario::parse(text, "edge")
-            .expect("parses")
-            .run(&RunOptions::new("."))
-            .expect("runs")
-        else {
-            panic!("not a rolling run");
-        };
-        run.road.warnings().to_vec()
-    };
+    let warnings = road_warnings;
     assert!(warnings(&text).is_empty());
     let edge = text.replace("lateral = \"2 mm\"", "lateral = \"30 mm\"");
     let w = warnings(&edge);
@@ -84,6 +88,68 @@ fn a_footprint_reaching_off_a_synthetic_road_is_warned_of() {
         w.iter().any(|w| w.starts_with(
             "the tread's footprint (50.0 × 40.0 mm) reaches off the synthetic road (120.0 × 80.0 mm)"
         ) && w.contains("y = 10.0 … 50.0 mm")),
+        "{w:?}"
+    );
+}
+
+/// Regression (adversarial run, 2026-11-30): a sensor off the road (x =
+/// 500–600 mm on a 120 mm road) ran with an all-zero column and only the
+/// note a sensor the path merely misses gets. Each sensor no footprint of
+/// the path covers is now warned of with both rectangles; one the last
+/// footprint just reaches is not.
+#[test]
+fn a_sensor_no_footprint_covers_is_warned_of() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/rolling_small.toml");
+    let text = std::fs::read_to_string(path).expect("fixture");
+    let warnings = road_warnings;
+    let sensor = "x0 = \"55 mm\"\nx1 = \"65 mm\"";
+    assert!(text.contains(sensor));
+    let off = text.replace(sensor, "x0 = \"500 mm\"\nx1 = \"600 mm\"");
+    let w = warnings(&off);
+    assert!(
+        w.iter().any(|w| w.starts_with(
+            "sensor \"centre\" (x = 500.0 … 600.0 mm, y = -10.0 … 10.0 mm) lies outside every \
+             footprint of the path"
+        )),
+        "{w:?}"
+    );
+    // Beside the path: the fixture's footprints span y = -18 … 22 mm.
+    let beside = text.replace(
+        "y0 = \"-10 mm\"\ny1 = \"10 mm\"",
+        "y0 = \"23 mm\"\ny1 = \"30 mm\"",
+    );
+    assert_eq!(warnings(&beside).len(), 1);
+    let touching = text.replace(
+        "y0 = \"-10 mm\"\ny1 = \"10 mm\"",
+        "y0 = \"21 mm\"\ny1 = \"30 mm\"",
+    );
+    assert!(warnings(&touching).is_empty());
+}
+
+/// Regression (adversarial run, 2026-11-30): 1e7 N on a 30 × 30 mm
+/// footprint (1700 times the tread's modulus) ran to a 26 m approach with
+/// every step `converged` and no word but the clearance warning. A load
+/// whose nominal pressure passes a tenth of the modulus is now warned of;
+/// the fixture's (0.2 %) and a load just under the line are not.
+#[test]
+fn a_load_no_linear_tread_carries_is_warned_of() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/rolling_small.toml");
+    let text = std::fs::read_to_string(path).expect("fixture");
+    let pressure_warnings = |load: &str| {
+        let text = text.replace("load = \"30 N\"", &format!("load = \"{load}\""));
+        road_warnings(&text)
+            .into_iter()
+            .filter(|w| w.starts_with("the load over the tread's footprint"))
+            .collect::<Vec<_>>()
+    };
+    assert!(text.contains("load = \"30 N\""));
+    assert!(pressure_warnings("30 N").is_empty());
+    // 50 × 40 mm at 6.54 MPa: the line is at 1308 N.
+    assert!(pressure_warnings("1300 N").is_empty());
+    let w = pressure_warnings("1400 N");
+    assert!(
+        w.len() == 1
+            && w[0].contains("is 0.700 MPa, 11 % of the tread's Young's modulus (6.540 MPa)"),
         "{w:?}"
     );
 }

@@ -13,7 +13,7 @@ use super::output::summits::{SpilledSummits, SummitSlices, SummitSource};
 use super::rolling_inside::InsidePatchTally;
 use super::rolling_npy::{npy_file, npy_summary, npy_summits, npy_window_road};
 use super::texture::{TextureSummary, footprint_off_road, rolling_texture_road_set};
-use super::{RollingSpec, RunOptions, Scenario, ScenarioError};
+use super::{RollingSpec, RunOptions, Scenario, ScenarioError, SyntheticRoadSpec};
 use crate::texture_road::{PastCapTally, PastShape, rolling_road};
 
 /// Where the rolled road came from.
@@ -52,6 +52,69 @@ impl RoadSummary {
         match self {
             Self::Texture(t) => &mut t.warnings,
             Self::Asperities { warnings, .. } | Self::Synthetic { warnings, .. } => warnings,
+        }
+    }
+
+    /// Warns of what `config`'s path misses on this road: a footprint
+    /// reaching off the texture's map or the synthetic road (`synthetic`,
+    /// its spec), each sensor no footprint covers (it reads nothing at any
+    /// step: a sensor off the road, or beside the path), and a load whose
+    /// nominal pressure over the footprint passes a tenth of the tread's
+    /// `youngs_modulus` (Pa; a viscoelastic tread's long-term one).
+    pub(crate) fn warn_of_path(
+        &mut self,
+        config: &rolling::RollingConfig,
+        synthetic: Option<&SyntheticRoadSpec>,
+        youngs_modulus: f64,
+    ) {
+        match self {
+            Self::Texture(t) => t.warn_of_footprint_off_map(config),
+            Self::Synthetic { warnings, .. } => {
+                if let Some(synth) = synthetic {
+                    let g = synth.road();
+                    warnings.extend(footprint_off_road(
+                        config,
+                        ((g.length, g.width), (g.min_spacing, g.min_spacing)),
+                        ("synthetic road", "give a longer or wider road"),
+                    ));
+                }
+            }
+            Self::Asperities { .. } => {}
+        }
+        // A tenth of the modulus: strains of that order are outside the
+        // linear half-space the model (and its BEM) solves; a tyre's
+        // footprint carries about 1 %.
+        if let Some(p) = config
+            .nominal_pressure()
+            .filter(|&p| p > 0.1 * youngs_modulus)
+        {
+            self.warnings_mut().push(format!(
+                "the load over the tread's footprint is {:.3} MPa, {:.0} % of the tread's \
+                 Young's modulus ({:.3} MPa): strains this large lie outside the linear \
+                 elastic half-space the model solves, and its forces and approach are no \
+                 tread's (a smaller load or a larger footprint)",
+                p * 1e-6,
+                100.0 * p / youngs_modulus,
+                youngs_modulus * 1e-6
+            ));
+        }
+        let (hx, hy) = config.tread.half_extents();
+        let mm = |v: f64| v * 1e3;
+        for s in config.sensors_off_the_path() {
+            self.warnings_mut().push(format!(
+                "sensor {:?} (x = {:.1} … {:.1} mm, y = {:.1} … {:.1} mm) lies outside every \
+                 footprint of the path (x = {:.1} … {:.1} mm, y = {:.1} … {:.1} mm): it reads \
+                 no force at any step (move the sensor onto the path)",
+                s.name,
+                mm(s.x[0]),
+                mm(s.x[1]),
+                mm(s.y[0]),
+                mm(s.y[1]),
+                mm(config.start.min(config.end) - hx),
+                mm(config.start.max(config.end) + hx),
+                mm(config.lateral - hy),
+                mm(config.lateral + hy),
+            ));
         }
     }
 }
@@ -192,9 +255,8 @@ pub(crate) fn rolling_on_uncalibrated_road(
         if matches!(what, What::Road | What::Gathered(_))
             && let Some(road) = npy_window_road(scenario, options, material)?
         {
-            let mut summary = npy_summary(&road);
-            summary.warn_of_footprint_off_map(&scenario.rolling_config()?);
-            let summary = RoadSummary::Texture(Box::new(summary));
+            let mut summary = RoadSummary::Texture(Box::new(npy_summary(&road)));
+            summary.warn_of_path(&scenario.rolling_config()?, None, material.youngs_modulus());
             return match what {
                 What::Gathered(result) => {
                     let summits = npy_summits(&road)?;
@@ -399,20 +461,11 @@ pub(super) fn roll_road_with<L: ContactLaw + Sync>(
     what: What,
 ) -> Result<Rolled, ScenarioError> {
     let config = scenario.rolling_config()?;
-    match &mut summary {
-        RoadSummary::Texture(t) => t.warn_of_footprint_off_map(&config),
-        RoadSummary::Synthetic { warnings, .. } => {
-            if let Some(synth) = &spec.synthetic_road {
-                let g = synth.road();
-                warnings.extend(footprint_off_road(
-                    &config,
-                    ((g.length, g.width), (g.min_spacing, g.min_spacing)),
-                    ("synthetic road", "give a longer or wider road"),
-                ));
-            }
-        }
-        RoadSummary::Asperities { .. } => {}
-    }
+    summary.warn_of_path(
+        &config,
+        spec.synthetic_road.as_ref(),
+        material.youngs_modulus(),
+    );
     if let What::Road = what {
         let summits = SummitSlices {
             positions: road.positions().to_vec(),

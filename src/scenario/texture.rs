@@ -146,6 +146,9 @@ pub struct CalibrationSummary {
     /// The caps whose calibration failed: each kept its Wilke law and the
     /// run went on (of the last round, when a run was repeated).
     pub fallbacks: Vec<CapFallback>,
+    /// Whether the tables kept their pressure fields (`calibrated_fields`):
+    /// near pairs are then coupled through them, not by point forces.
+    pub fields: bool,
 }
 
 impl CalibrationSummary {
@@ -383,6 +386,7 @@ pub(crate) fn run_texture_static(
                 time: clock.elapsed(),
                 past_tables: PastTables::default(),
                 fallbacks,
+                fields: calibrator.has_fields(),
             });
             let problem =
                 Problem::from_set(set, material).map_err(as_problem("[texture] asperities"))?;
@@ -662,6 +666,7 @@ pub(crate) fn calibrated_texture_road_set_with(
         time: calibrated.time,
         past_tables: PastTables::default(),
         fallbacks: calibrated.fallbacks,
+        fields: calibrator.has_fields(),
     });
     Ok((calibrated.set, summary, radii))
 }

@@ -715,10 +715,10 @@ impl Sweep<'_> {
         coupling: Option<&dyn rolling::StepCoupling<L>>,
     ) -> Vec<Result<RollingRun, ScenarioError>> {
         // A path the scenario cannot give fails in each case's run.
-        if let (RoadSummary::Texture(t), Ok(config)) =
-            (&mut summary, self.scenario.rolling_config())
-        {
-            t.warn_of_footprint_off_map(&config);
+        if let (Ok(config), Some(spec)) = (self.scenario.rolling_config(), &self.scenario.rolling) {
+            // The softest the tread gets: its long-term modulus.
+            let modulus = self.series.long_term();
+            summary.warn_of_path(&config, spec.synthetic_road.as_ref(), modulus);
         }
         self.cases
             .iter()

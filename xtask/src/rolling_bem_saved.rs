@@ -142,6 +142,12 @@ pub fn read(
                 sensors_path.display()
             );
         };
+        if !step.sensor_forces[k].is_nan() {
+            bail!(
+                "{}: step {i}, sensor {name:?} is given twice",
+                sensors_path.display()
+            );
+        }
         step.sensor_forces[k] = number(&row, "bem_n", &sensors_path)?;
     }
     check_complete(&steps, scenario, &steps_path, &sensors_path)?;
@@ -166,7 +172,18 @@ fn check_complete(
     if steps.is_empty() {
         bail!("{}: no steps", steps_path.display());
     }
-    for s in steps {
+    for (j, s) in steps.iter().enumerate() {
+        // Rows one per step, in order: a repeated or missing step id would
+        // put every later sample at another step than the BEM solved.
+        if s.index != steps[0].index + j {
+            bail!(
+                "{}: row {} is step {}, expected step {} (the steps are consecutive)",
+                steps_path.display(),
+                j + 1,
+                s.index,
+                steps[0].index + j
+            );
+        }
         if !(s.position.is_finite() && s.time.is_finite()) {
             bail!(
                 "{}: step {} has no finite position or time",
@@ -192,6 +209,34 @@ fn check_complete(
                 config.sensors[k].name
             );
         }
+        // The BEM's pressures are compressive: no force, area or approach
+        // below zero, and no sensor beyond the step's whole force (to the
+        // rounding of the saved digits).
+        if !(s.total_force >= 0.0 && s.contact_area >= 0.0 && s.approach >= 0.0) {
+            bail!(
+                "{}: step {} has a negative force ({} N), contact area ({} m²) or approach ({} m)",
+                steps_path.display(),
+                s.index,
+                s.total_force,
+                s.contact_area,
+                s.approach
+            );
+        }
+        let slack = 1e-6 * s.total_force;
+        if let Some((k, f)) = s
+            .sensor_forces
+            .iter()
+            .enumerate()
+            .find(|&(_, &f)| !(-slack..=s.total_force + slack).contains(&f))
+        {
+            bail!(
+                "{}: step {}: sensor {:?} carries {f} N, outside 0 … {} N (the step's whole force)",
+                sensors_path.display(),
+                s.index,
+                config.sensors[k].name,
+                s.total_force
+            );
+        }
     }
     Ok(())
 }
@@ -206,11 +251,16 @@ mod tests {
     }
 
     fn on_grid(load: &str, grid: &str) -> Scenario {
+        on_grid_with(load, grid, "")
+    }
+
+    /// [`on_grid`] with `sensors` (`[[rolling.sensor]]` tables).
+    fn on_grid_with(load: &str, grid: &str, sensors: &str) -> Scenario {
         let text = format!(
             "name = \"saved\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
              [rolling]\nstart = \"10 mm\"\nend = \"14 mm\"\nstep = \"1 mm\"\nspeed = \"10 m/s\"\n\
              [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.1 m\"\nradius_y = \"0.1 m\"\n\
-             length = \"6 mm\"\nwidth = \"6 mm\"\n[rolling.control]\nload = \"{load}\"\n\
+             length = \"6 mm\"\nwidth = \"6 mm\"\n{sensors}[rolling.control]\nload = \"{load}\"\n\
              [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\n\
              [texture.synth]\nkind = \"exposed_aggregate\"\n{grid}\nseed = 7\n"
         );
@@ -264,6 +314,62 @@ mod tests {
             read(&dir, &same, (&saved, SavedAs::SameRun)).expect_err("grid")
         );
         assert!(message.contains("grid: saved 48 x 24 cells"), "{message}");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+
+    /// Regression (adversarial run, 2026-11-30): saved signals that are
+    /// finite but impossible were compared as the BEM's: a sensor carrying
+    /// 2.4e30 N or −2.4 N under a 30 N load, a step id repeated (every later
+    /// sample shifted a step). Each is refused, naming the file and step;
+    /// the same files unedited are read.
+    #[test]
+    fn saved_bem_signals_no_contact_can_give_are_refused() {
+        let dir = std::env::temp_dir().join(format!("tyreroad-bem-odd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let this = on_grid_with(
+            "30 N",
+            "nx = 96\nny = 48\nspacing = \"0.25 mm\"",
+            "[[rolling.sensor]]\nname = \"s\"\nx0 = \"8 mm\"\nx1 = \"12 mm\"\n\
+             y0 = \"-2 mm\"\ny1 = \"2 mm\"\n",
+        );
+        let options = BemRollingOptions::default();
+        let reference = scenario_bem_reference(&this, Path::new("."), &options).expect("reference");
+        std::fs::write(dir.join(REFERENCE_FILE), reference.to_text()).expect("write");
+        let write = |ids: [usize; 5], sensor: &str| {
+            let mut steps = String::from(
+                "step,position_m,time_s,total_force_bem_n,approach_bem_m,contact_area_bem_m2\n",
+            );
+            let mut sensors = String::from("step,sensor,bem_n\n");
+            for (k, id) in ids.into_iter().enumerate() {
+                let x = 0.010 + 1e-3 * k as f64;
+                steps.push_str(&format!("{id},{x},{},30,1e-4,2e-6\n", x / 10.0));
+                let f = if k == 2 { sensor } else { "12.5" };
+                sensors.push_str(&format!("{k},s,{f}\n"));
+            }
+            std::fs::write(dir.join("rolling_bem_steps.csv"), steps).expect("write");
+            std::fs::write(dir.join("rolling_bem_sensors.csv"), sensors).expect("write");
+        };
+        let read_back = || read(&dir, &this, (&reference, SavedAs::SameRun));
+        write([0, 1, 2, 3, 4], "30");
+        let saved = read_back().expect("a whole run");
+        assert_eq!(saved.steps[2].sensor_forces, [30.0]);
+        for (sensor, ids, expected) in [
+            (
+                "2.4e30",
+                [0, 1, 2, 3, 4],
+                "step 2: sensor \"s\" carries 2400000000000000000000000000000 N, outside 0 … 30 N",
+            ),
+            (
+                "-2.4",
+                [0, 1, 2, 3, 4],
+                "step 2: sensor \"s\" carries -2.4 N",
+            ),
+            ("12.5", [0, 0, 2, 3, 4], "row 2 is step 0, expected step 1"),
+        ] {
+            write(ids, sensor);
+            let message = format!("{:#}", read_back().expect_err(sensor));
+            assert!(message.contains(expected), "{message}");
+        }
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
 }

@@ -230,7 +230,13 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
         warnings.push(warning);
     }
     let (overlapping_steps, most) = (signals.overlapping_steps, signals.most_overlapping);
-    if overlapping_steps > 0 {
+    // The field rung couples overlapping patches through their calibrated
+    // fields: the note is the point coupling's.
+    let field_coupled = matches!(
+        run.road,
+        RoadSummary::Texture(t) if t.calibration.as_ref().is_some_and(|c| c.fields)
+    );
+    if overlapping_steps > 0 && !field_coupled {
         say!(
             "note: at {overlapping_steps} of {total} steps some contact patches overlap (up to \
              {most} pairs, column n_overlapping): the point-force coupling does not hold there"

@@ -206,6 +206,7 @@ mod tests {
                 summit: [12.5e-3, 3.25e-3],
                 reason: "calibration BEM: not converged".into(),
             }],
+            fields: false,
         };
         let mut f = Fallbacks::default();
         f.add_calibration(&cal);

@@ -165,6 +165,34 @@ impl RollingConfig {
         (approach > boundary).then_some((approach, boundary))
     }
 
+    /// Under [`RollingControl::Load`], the load over the tread's box
+    /// (`W / (L W_t)`, Pa): the nominal pressure the footprint carries.
+    /// `None` under an imposed approach (the load is an output).
+    pub fn nominal_pressure(&self) -> Option<f64> {
+        let RollingControl::Load(load) = self.control else {
+            return None;
+        };
+        let (hx, hy) = self.tread.half_extents();
+        Some(load / (4.0 * hx * hy))
+    }
+
+    /// The sensors no footprint of the path covers: the tread's box
+    /// (`x_c ± L/2`, `lateral ± W/2`, the tread's half extents) swept
+    /// from the first step to the last never meets their rectangle, so
+    /// they read no force at any step (a sensor off the road, or beside
+    /// the path).
+    pub fn sensors_off_the_path(&self) -> Vec<&Sensor> {
+        let (hx, hy) = self.tread.half_extents();
+        let last = self.position(self.steps() - 1);
+        let along = [self.start.min(last) - hx, self.start.max(last) + hx];
+        let across = [self.lateral - hy, self.lateral + hy];
+        let meets = |a: [f64; 2], b: [f64; 2]| a[0] <= b[1] && b[0] <= a[1];
+        self.sensors
+            .iter()
+            .filter(|s| !(meets(s.x, along) && meets(s.y, across)))
+            .collect()
+    }
+
     /// Number of steps on the path ([`path_steps`], at least 1).
     pub fn steps(&self) -> usize {
         path_steps(self.start, self.end, self.step).max(1.0) as usize
