@@ -32,6 +32,10 @@ pub struct SweepArgs {
     /// Distribute the runs over MPI ranks (needs `--features mpi`).
     #[arg(long)]
     pub mpi: bool,
+    /// Exit non-zero when any run failed (its table is written all the
+    /// same); without it only a sweep none of whose runs ran fails.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// One run, rolled on the calling thread and written to `out/run_NNNN`;
@@ -73,7 +77,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     } else {
         run_local(&sweep.runs, args.threads, job)?
     };
-    write_table(&rows, &args.out)
+    write_table(&rows, &args.out, args.strict)
 }
 
 /// The producer name of a sweep run's outputs: its folder's manifest.
@@ -122,7 +126,7 @@ fn remove_stale_runs(rows: &[SweepRow], out: &Path) -> Result<()> {
     Ok(())
 }
 
-fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
+fn write_table(rows: &[SweepRow], out: &Path, strict: bool) -> Result<()> {
     remove_stale_runs(rows, out)?;
     let mut set = OutputSet::new(out)?;
     set.write("sweep.csv", table_csv(rows).as_bytes())?;
@@ -143,6 +147,14 @@ fn write_table(rows: &[SweepRow], out: &Path) -> Result<()> {
     if !rows.is_empty() && failed == rows.len() {
         anyhow::bail!(
             "every run of the sweep failed (each row of {} says why)",
+            out.join("sweep.csv").display()
+        );
+    }
+    // A script that needs every run asks for it.
+    if strict && failed > 0 {
+        anyhow::bail!(
+            "{failed} of {} runs of the sweep failed (--strict; each row of {} says why)",
+            rows.len(),
             out.join("sweep.csv").display()
         );
     }
@@ -277,7 +289,7 @@ mod tests {
         let out =
             std::env::temp_dir().join(format!("tyreroad-sweep-failed-{}", std::process::id()));
         let all_failed = [row(0, Err("bad".into())), row(1, Err("worse".into()))];
-        let e = write_table(&all_failed, &out).expect_err("every run failed");
+        let e = write_table(&all_failed, &out, false).expect_err("every run failed");
         assert!(
             e.to_string().contains("every run of the sweep failed"),
             "{e}"
@@ -317,7 +329,13 @@ mod tests {
             bands: Vec::new(),
         };
         let rows = [row(0, Ok(summary)), row(1, Err("diverged".into()))];
-        write_table(&rows, &out)?;
+        // One run of two failed: the sweep's success unless `--strict`.
+        let e = write_table(&rows, &out, true).expect_err("strict");
+        assert!(
+            e.to_string().starts_with("1 of 2 runs of the sweep failed"),
+            "{e}"
+        );
+        write_table(&rows, &out, false)?;
         assert!(out.join("run_0000/time_signals.csv").is_file());
         assert!(!out.join("run_0001").exists(), "a failed run's old outputs");
         assert!(!out.join("run_0002").exists(), "past the last run");
