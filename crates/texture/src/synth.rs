@@ -399,7 +399,19 @@ fn rotation(azimuth: f64, tilt: f64, tilt_axis: f64) -> [[f64; 3]; 3] {
     mul(mul(rz(tilt_axis), rx), rz(azimuth - tilt_axis))
 }
 
+/// The fewest grid spacings (the coarser of `dx`, `dy`) the smallest
+/// chipping of an [`Aggregate`] must span: a disc four cells across holds
+/// about a dozen grid points, enough to draw a rounded top, and bounds the
+/// number of chippings to at most `coverage / (4π)` per cell.
+pub const MIN_CHIP_CELLS: f64 = 4.0;
+
 /// Synthesise an aggregate surface (see [`Aggregate`]).
+///
+/// # Errors
+/// [`TextureError::InvalidParameter`] naming a spacing, the coverage (in
+/// `(0, 20]`), a range or the grading out of its bounds;
+/// [`TextureError::Unresolved`] when the grading's smallest chipping spans
+/// fewer than [`MIN_CHIP_CELLS`] grid spacings.
 pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
     let n = check_size(p.nx, p.ny)?;
     validate::positive("dx", p.dx)?;
@@ -446,6 +458,25 @@ pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
             name: "grading percentage",
             value: c1,
             requirement: "last > first",
+        });
+    }
+    // The smallest chipping the grading draws: the last size at the first
+    // percentage (sizes are interpolated above it). Narrower than a few
+    // cells, a chipping is not drawn but sampled at a point or missed, and
+    // the chippings needed to reach the coverage outnumber the cells (a
+    // 20 × 20 grid at 1 m asked for ten million 4 mm chippings: a hang).
+    let smallest = g
+        .iter()
+        .take_while(|&&(_, c)| c <= c0)
+        .last()
+        .map_or(g[0].0, |&(s, _)| s);
+    let spacing = p.dx.max(p.dy);
+    if smallest < MIN_CHIP_CELLS * spacing {
+        return Err(TextureError::Unresolved {
+            what: "smallest chipping",
+            size: smallest,
+            spacing,
+            min_cells: MIN_CHIP_CELLS,
         });
     }
     let (rounding, cuts) = match p.shape {
