@@ -347,3 +347,57 @@ fn a_temperature_past_any_tread_an_overflowing_shift_and_a_branchless_series_are
         "{e}"
     );
 }
+
+/// Regression (adversarial run): a master curve whose storage modulus
+/// falls ninefold over two decades was fitted without a word. It is
+/// refused, naming both points; a 5 % dip (measurement noise) rolls, and
+/// every run says so in its road summary.
+#[test]
+fn a_storage_modulus_falling_with_frequency_is_refused_and_a_dip_is_warned_of() {
+    let err = fit_error("falls", 3, "f,E1,E2\n1,9e6,1e5\n10,5e6,5e5\n100,1e6,1e6\n");
+    assert!(err.starts_with(&format!("scenario {ORIGIN}: ")), "{err}");
+    assert!(
+        err.contains("falls from 9e6 Pa at 1 Hz to 1e6 Pa at 100 Hz (88.8889% lower)")
+            && err.contains("over 20%"),
+        "{err}"
+    );
+    let dir = with_curve("dip", "f,E1,E2\n1,2e6,1e5\n10,1.9e6,3e5\n100,4e6,1e6\n");
+    let scenario = Scenario::parse(&fitted(3), ORIGIN).expect("parses");
+    let runs = scenario
+        .roll_viscoelastic(&RunOptions::new(&dir), &[ViscoCase::default()])
+        .expect("the road");
+    std::fs::remove_dir_all(&dir).ok();
+    let run = runs.into_iter().next().expect("a case").expect("rolls");
+    let dips: Vec<&String> = run
+        .road
+        .warnings()
+        .iter()
+        .filter(|w| w.contains("master curve mc.csv"))
+        .collect();
+    assert_eq!(dips.len(), 1, "{:?}", run.road.warnings());
+    assert!(
+        dips[0].contains("falls from 2e6 Pa at 1 Hz to 1.9e6 Pa at 10 Hz (5% lower)"),
+        "{}",
+        dips[0]
+    );
+}
+
+/// Regression (adversarial run): E' = E'' = 1e-3 Pa and 1e300 Pa both
+/// failed as "invalid long-term modulus E∞ (Pa): 0". The curve's moduli
+/// are read within `[material] youngs_modulus`'s range, the first out of
+/// it named by its line, column and value.
+#[test]
+fn master_curve_moduli_out_of_range_are_named_by_their_row() {
+    let err = fit_error("tiny", 3, "f,E1,E2\n1,1e-3,1e-3\n10,2e-3,1e-3\n");
+    assert!(err.starts_with(&format!("scenario {ORIGIN}: ")), "{err}");
+    assert!(
+        err.contains("master curve line 2, column 2 (storage modulus E' (Pa)): 0.001 is out of range (expected within [1000, 1e12] Pa)"),
+        "{err}"
+    );
+    assert!(!err.contains("E∞"), "{err}");
+    let err = fit_error("huge", 3, "f,E1,E2\n1,1e300,1e300\n10,1e301,1e300\n");
+    assert!(
+        err.contains("line 2, column 2 (storage modulus E' (Pa)): 1e300 is out of range"),
+        "{err}"
+    );
+}

@@ -39,6 +39,7 @@ mod statics;
 mod texture;
 pub mod units;
 mod visco;
+mod visco_curve;
 
 use std::path::PathBuf;
 

@@ -11,9 +11,8 @@ use serde::Deserialize;
 use tyreroad_contact_law::{ContactLaw, Material};
 use tyreroad_rolling as rolling;
 use tyreroad_viscoelastic::{
-    Branch, MAX_PER_DECADE, MasterCurve, Prony, Receding, TemperatureShift, TrailingMemory,
-    ViscoError, ViscoRollOptions, ViscoStart, fit_prony, roll_viscoelastic,
-    roll_viscoelastic_coupled, significant,
+    Branch, MAX_PER_DECADE, Prony, Receding, TemperatureShift, TrailingMemory, ViscoError,
+    ViscoRollOptions, ViscoStart, roll_viscoelastic, roll_viscoelastic_coupled, significant,
 };
 
 use super::ranges::{MODULUS_RANGE, SPEED_RANGE, in_range};
@@ -222,7 +221,7 @@ fn temperature_difference<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64,
     d.deserialize_any(Visitor)
 }
 
-fn visco_error(key: &str) -> impl Fn(ViscoError) -> ScenarioError + '_ {
+pub(super) fn visco_error(key: &str) -> impl Fn(ViscoError) -> ScenarioError + '_ {
     move |e| ScenarioError::Invalid(format!("[material.viscoelastic] {key}: {e}"))
 }
 
@@ -341,14 +340,20 @@ impl ViscoSpec {
     /// series and `master_curve`, a value out of range, an unreadable or
     /// malformed curve, a fit that fails.
     pub fn series(&self, poisson_ratio: f64, base_dir: &Path) -> Result<Prony, ScenarioError> {
+        self.fitted(poisson_ratio, base_dir)
+            .map(|(series, _)| series)
+    }
+
+    /// [`Self::series`], and what a run should say of its master curve
+    /// (`visco_curve::fit`).
+    fn fitted(
+        &self,
+        poisson_ratio: f64,
+        base_dir: &Path,
+    ) -> Result<(Prony, Option<String>), ScenarioError> {
         match (&self.master_curve, self.long_term) {
             (Some(file), None) if self.branches.is_empty() => {
-                let path = base_dir.join(file);
-                let text = std::fs::read_to_string(&path)
-                    .map_err(ScenarioError::io("reading the master curve", &path))?;
-                let curve = MasterCurve::parse_csv(&text).map_err(visco_error("master_curve"))?;
-                fit_prony(&curve, self.per_decade.unwrap_or(3), poisson_ratio)
-                    .map_err(visco_error("master_curve"))
+                super::visco_curve::fit(file, base_dir, self.per_decade, poisson_ratio)
             }
             (None, Some(_)) if self.branches.is_empty() => Err(ScenarioError::Invalid(
                 "[material.viscoelastic]: long_term without any [[material.viscoelastic.branch]] \
@@ -366,6 +371,7 @@ impl ViscoSpec {
                     })
                     .collect();
                 Prony::new(long_term.value(), branches, poisson_ratio)
+                    .map(|series| (series, None))
                     .map_err(visco_error("long_term, branch"))
             }
             _ => Err(ScenarioError::Invalid(
@@ -556,13 +562,14 @@ impl Scenario {
                 "the scenario's [material] has no viscoelastic section".into(),
             ))
         })?;
-        let series = visco
-            .series(self.material.poisson_ratio, &options.base_dir)
+        let (series, curve_warning) = visco
+            .fitted(self.material.poisson_ratio, &options.base_dir)
             .map_err(|e| self.located(e))?;
         let material = self.material()?;
         let sweep = Sweep {
             scenario: self,
             visco,
+            curve_warning: curve_warning.as_deref(),
             series: &series,
             material,
             options,
@@ -677,6 +684,8 @@ impl Scenario {
 struct Sweep<'a> {
     scenario: &'a Scenario,
     visco: &'a ViscoSpec,
+    /// What every run says of the master curve (`ViscoSpec::fitted`).
+    curve_warning: Option<&'a str>,
     series: &'a Prony,
     material: Material,
     options: &'a RunOptions<'a>,
@@ -714,6 +723,9 @@ impl Sweep<'_> {
         mut summary: RoadSummary,
         coupling: Option<&dyn rolling::StepCoupling<L>>,
     ) -> Vec<Result<RollingRun, ScenarioError>> {
+        summary
+            .warnings_mut()
+            .extend(self.curve_warning.map(str::to_string));
         // A path the scenario cannot give fails in each case's run.
         if let (Ok(config), Some(spec)) = (self.scenario.rolling_config(), &self.scenario.rolling) {
             // The softest the tread gets: its long-term modulus.

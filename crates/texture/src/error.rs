@@ -26,6 +26,22 @@ pub enum TextureError {
         /// What it must satisfy.
         requirement: &'static str,
     },
+    /// A feature of a synthetic texture is too small for its grid to draw:
+    /// it would span fewer than `min_cells` grid spacings.
+    #[error(
+        "unresolved {what}: {size:?} m spans fewer than {min_cells} grid spacings of \
+         {spacing:?} m (refine the spacing to at most 1/{min_cells} of it)"
+    )]
+    Unresolved {
+        /// Which feature.
+        what: &'static str,
+        /// Its size (m).
+        size: f64,
+        /// The grid's coarser spacing (m).
+        spacing: f64,
+        /// The fewest grid spacings it must span.
+        min_cells: f64,
+    },
     /// A file is malformed or truncated.
     #[error("malformed {format} data: {message}")]
     Format {

@@ -23,7 +23,7 @@ use tyreroad_core::validate;
 
 use crate::error::TextureError;
 use crate::heightmap::{HeightMap, check_size};
-use crate::synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine};
+use crate::synth::{Aggregate, ChipShape, SelfAffine, aggregate, self_affine_to_grid};
 
 /// The grid of a synthetic road: `nx × ny` points at spacings `dx`, `dy`
 /// (m), x being the driving direction.
@@ -101,7 +101,7 @@ impl Microtexture {
         if self.rms == 0.0 {
             return Ok(vec![0.0; n]);
         }
-        let map = self_affine(&SelfAffine {
+        let map = self_affine_to_grid(&SelfAffine {
             nx: grid.nx,
             ny: grid.ny,
             dx: grid.dx,
@@ -345,7 +345,7 @@ pub fn brushed_concrete(p: &BrushedConcrete) -> Result<HeightMap, TextureError> 
             requirement: "< striation_long",
         });
     }
-    let striations = self_affine(&SelfAffine {
+    let striations = self_affine_to_grid(&SelfAffine {
         nx: g.nx,
         ny: g.ny,
         dx: g.dx,

@@ -93,10 +93,39 @@ pub const MAX_SYNTH_RMS: f64 = 1.0;
 /// # Errors
 /// [`TextureError::InvalidParameter`] naming a spacing, `rms` (in
 /// `(0, 1 m]`), `hurst` (in `(0, 1]`) or a wavelength out of its range
-/// (`λ_short < λ_long`, `λ_long ≥ 2 max(dx, dy)`);
+/// (`λ_short < λ_long`, both at least `2 max(dx, dy)`, the shortest
+/// wavelength the grid holds in every direction);
 /// [`TextureError::NotEnoughData`] when no wavenumber of the grid falls in
 /// the band.
 pub fn self_affine(p: &SelfAffine) -> Result<HeightMap, TextureError> {
+    let n = check_self_affine(p)?;
+    // A cut-off finer than the grid cuts nothing the grid holds: the
+    // surface would stop at the grid's wavelengths, not at the one asked
+    // for (0.01 mm on a 0.25 mm grid was accepted and meant nothing).
+    if p.lambda_short < 2.0 * p.dx.max(p.dy) {
+        return Err(TextureError::InvalidParameter {
+            name: "lambda_short",
+            value: p.lambda_short,
+            requirement: "at least two grid spacings (the coarser), the shortest wavelength \
+                          the grid holds in every direction",
+        });
+    }
+    draw_self_affine(p, n)
+}
+
+/// A self-affine roughness down to `λ_short` or to the grid's shortest
+/// wavelength, whichever is longer: the road kinds' fine roughness
+/// ([`crate::roads::Microtexture`], the brushed striations), whose
+/// wavelengths are the material's and not chosen for the grid. Otherwise
+/// checked as [`self_affine`].
+pub(crate) fn self_affine_to_grid(p: &SelfAffine) -> Result<HeightMap, TextureError> {
+    let n = check_self_affine(p)?;
+    draw_self_affine(p, n)
+}
+
+/// Every check of [`self_affine`] but `λ_short` against the grid; returns
+/// the number of points.
+fn check_self_affine(p: &SelfAffine) -> Result<usize, TextureError> {
     let n = check_size(p.nx, p.ny)?;
     validate::positive("dx", p.dx)?;
     validate::positive("dy", p.dy)?;
@@ -136,6 +165,11 @@ pub fn self_affine(p: &SelfAffine) -> Result<HeightMap, TextureError> {
             requirement: "at least two grid spacings, the shortest wavelength the grid holds",
         });
     }
+    Ok(n)
+}
+
+/// Draws the checked surface `p` of `n` points.
+fn draw_self_affine(p: &SelfAffine, n: usize) -> Result<HeightMap, TextureError> {
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
     let mut data: Vec<Complex<f64>> = (0..n).map(|_| Complex::new(gauss(&mut rng), 0.0)).collect();
     fft2(&mut data, p.nx, p.ny, false);
@@ -399,7 +433,19 @@ fn rotation(azimuth: f64, tilt: f64, tilt_axis: f64) -> [[f64; 3]; 3] {
     mul(mul(rz(tilt_axis), rx), rz(azimuth - tilt_axis))
 }
 
+/// The fewest grid spacings (the coarser of `dx`, `dy`) the smallest
+/// chipping of an [`Aggregate`] must span: a disc four cells across holds
+/// about a dozen grid points, enough to draw a rounded top, and bounds the
+/// number of chippings to at most `coverage / (4π)` per cell.
+pub const MIN_CHIP_CELLS: f64 = 4.0;
+
 /// Synthesise an aggregate surface (see [`Aggregate`]).
+///
+/// # Errors
+/// [`TextureError::InvalidParameter`] naming a spacing, the coverage (in
+/// `(0, 20]`), a range or the grading out of its bounds;
+/// [`TextureError::Unresolved`] when the grading's smallest chipping spans
+/// fewer than [`MIN_CHIP_CELLS`] grid spacings.
 pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
     let n = check_size(p.nx, p.ny)?;
     validate::positive("dx", p.dx)?;
@@ -446,6 +492,25 @@ pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
             name: "grading percentage",
             value: c1,
             requirement: "last > first",
+        });
+    }
+    // The smallest chipping the grading draws: the last size at the first
+    // percentage (sizes are interpolated above it). Narrower than a few
+    // cells, a chipping is not drawn but sampled at a point or missed, and
+    // the chippings needed to reach the coverage outnumber the cells (a
+    // 20 × 20 grid at 1 m asked for ten million 4 mm chippings: a hang).
+    let smallest = g
+        .iter()
+        .take_while(|&&(_, c)| c <= c0)
+        .last()
+        .map_or(g[0].0, |&(s, _)| s);
+    let spacing = p.dx.max(p.dy);
+    if smallest < MIN_CHIP_CELLS * spacing {
+        return Err(TextureError::Unresolved {
+            what: "smallest chipping",
+            size: smallest,
+            spacing,
+            min_cells: MIN_CHIP_CELLS,
         });
     }
     let (rounding, cuts) = match p.shape {

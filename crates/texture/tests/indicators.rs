@@ -98,7 +98,7 @@ fn a_self_affine_surface_no_grid_or_road_can_hold_is_refused_by_name() {
         rms: 0.8e-3,
         hurst: 0.8,
         lambda_long: 8e-3,
-        lambda_short: 0.2e-3,
+        lambda_short: 1e-3,
         seed: 7,
     };
     let refused = |q: SelfAffine| self_affine(&q).unwrap_err().to_string();
@@ -126,14 +126,74 @@ fn a_self_affine_surface_no_grid_or_road_can_hold_is_refused_by_name() {
         })
         .is_ok()
     );
+    // The band's limits pass: λ_short at two spacings of the coarser axis
+    // (λ_long, above it, is then above its own limit too).
     assert!(
         self_affine(&SelfAffine {
-            lambda_long: 1e-3,
-            lambda_short: 0.1e-3,
+            lambda_long: 1.5e-3,
+            lambda_short: 1e-3,
             ..p
         })
         .is_ok()
     );
+}
+
+/// Regression (adversarial run): `lambda_short = "0.01 mm"` on a 0.25 mm
+/// grid was accepted though the grid holds no wavelength below 0.5 mm: the
+/// cut-off meant nothing. A cut-off below two spacings of the coarser axis
+/// is refused by name; at the limit it passes. The road kinds' roughness
+/// keeps its material wavelengths on any grid (drawn down to the grid).
+#[test]
+fn a_short_cutoff_finer_than_the_grid_is_refused() {
+    let p = SelfAffine {
+        nx: 128,
+        ny: 128,
+        dx: 0.25e-3,
+        dy: 0.25e-3,
+        rms: 0.5e-3,
+        hurst: 0.8,
+        lambda_long: 20e-3,
+        lambda_short: 0.01e-3,
+        seed: 1,
+    };
+    let e = self_affine(&p).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "invalid lambda_short: 1e-5 (must be at least two grid spacings (the coarser), the \
+         shortest wavelength the grid holds in every direction)"
+    );
+    // Just under 2·dx and under 2·dy of an anisotropic grid: refused.
+    for q in [
+        SelfAffine {
+            lambda_short: 0.499e-3,
+            ..p.clone()
+        },
+        SelfAffine {
+            dy: 0.3e-3,
+            lambda_short: 0.59e-3,
+            ..p.clone()
+        },
+    ] {
+        assert!(matches!(
+            self_affine(&q),
+            Err(tyreroad_texture::TextureError::InvalidParameter {
+                name: "lambda_short",
+                ..
+            })
+        ));
+    }
+    let at_limit = self_affine(&SelfAffine {
+        lambda_short: 0.5e-3,
+        ..p
+    })
+    .unwrap();
+    assert!((at_limit.rms().unwrap() / 0.5e-3 - 1.0).abs() < 1e-12);
+    // The mortar of a pavé on a 1 mm grid keeps its 0.5 mm cut-off.
+    let pave = tyreroad_texture::pave(&tyreroad_texture::Pave::new(
+        tyreroad_texture::RoadGrid::square(120, 120, 1e-3),
+        3,
+    ));
+    assert!(pave.is_ok());
 }
 
 #[test]

@@ -416,3 +416,68 @@ fn plateau_summits_sit_on_the_wear_plane_without_a_paraboloid() {
     }
     assert!(on_plateau >= 3, "{on_plateau} plateaus");
 }
+
+/// Regression (adversarial run): the chipping kinds on 20 × 20 points at
+/// 1 m drew ten million 4 mm chippings, none of them resolved, and hung.
+/// A grid whose spacing is more than a quarter of the smallest chipping is
+/// refused by the chipping, its size, the spacing and the bound; the bound
+/// itself passes.
+#[test]
+fn a_coarse_spacing_that_cannot_draw_a_chipping_is_refused() {
+    use tyreroad_texture::{Aggregate, MIN_CHIP_CELLS, aggregate};
+    assert_eq!(MIN_CHIP_CELLS, 4.0);
+    let coarse = RoadGrid::square(20, 20, 1.0);
+    let unresolved = |r: Result<HeightMap, TextureError>| match r {
+        Err(TextureError::Unresolved {
+            what,
+            size,
+            spacing,
+            min_cells,
+        }) => (what, size, spacing, min_cells),
+        other => panic!("expected an unresolved chipping, got {other:?}"),
+    };
+    // 6/10 mm: the smallest chipping is 4 mm; 4/6.3 mm: 2.8 mm.
+    let six_ten = ("smallest chipping", 4e-3, 1.0, 4.0);
+    let four_six = ("smallest chipping", 2.8e-3, 1.0, 4.0);
+    assert_eq!(
+        unresolved(porous_asphalt(&PorousAsphalt::new(coarse, 1))),
+        six_ten
+    );
+    assert_eq!(
+        unresolved(worn_chip_seal(&WornChipSeal::new(coarse, 1))),
+        six_ten
+    );
+    assert_eq!(
+        unresolved(exposed_aggregate(&ExposedAggregate::new(coarse, 1))),
+        four_six
+    );
+    let chips = Aggregate::new(20, 20, 1.0, 1.0, Aggregate::grading_4_6(), 1);
+    let e = aggregate(&chips).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "unresolved smallest chipping: 0.0028 m spans fewer than 4 grid spacings of 1.0 m \
+         (refine the spacing to at most 1/4 of it)"
+    );
+    // The coarser spacing counts: 0.75 mm along y is too coarse for 2.8 mm.
+    let aniso = Aggregate::new(40, 40, 0.5e-3, 0.75e-3, Aggregate::grading_4_6(), 1);
+    assert_eq!(
+        unresolved(aggregate(&aniso)),
+        ("smallest chipping", 2.8e-3, 0.75e-3, 4.0)
+    );
+    // A grading whose first sizes share its first percentage draws nothing
+    // below the last of them: (1 mm, 0 %), (4 mm, 0 %) draws from 4 mm.
+    let flat_start = vec![(1e-3, 0.0), (4e-3, 0.0), (6e-3, 100.0)];
+    let at_limit = Aggregate::new(40, 40, 0.99e-3, 0.99e-3, flat_start, 1);
+    assert!(aggregate(&at_limit).is_ok());
+    // Just inside the bound, each kind is drawn (4 mm over 4 × 0.999 mm).
+    let fine = RoadGrid::square(40, 40, 0.999e-3);
+    assert!(porous_asphalt(&PorousAsphalt::new(fine, 1)).is_ok());
+    assert!(worn_chip_seal(&WornChipSeal::new(fine, 1)).is_ok());
+    let fine = RoadGrid::square(40, 40, 0.699e-3);
+    assert!(exposed_aggregate(&ExposedAggregate::new(fine, 1)).is_ok());
+    let just_out = RoadGrid::square(40, 40, 1.001e-3);
+    assert_eq!(
+        unresolved(porous_asphalt(&PorousAsphalt::new(just_out, 1))).1,
+        4e-3
+    );
+}

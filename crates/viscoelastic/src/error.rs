@@ -68,6 +68,20 @@ pub enum ViscoError {
         /// The repeated frequency (Hz).
         frequency: f64,
     },
+    /// A master curve's storage modulus falls with frequency by more than
+    /// [`crate::MAX_STORAGE_FALL`]: no passive material does (its `E'` is
+    /// non-decreasing), and no Prony series can follow it.
+    #[error(
+        "master curve: {fall}: a passive tread's E' does not decrease with frequency, and falls \
+         over {}% are not measurement noise (check the columns: frequency, E', E'')",
+        significant(100.0 * *max)
+    )]
+    StorageModulusFalls {
+        /// Where it falls most.
+        fall: crate::StorageFall,
+        /// The largest fall accepted, as a fraction.
+        max: f64,
+    },
     /// A fit would need more relaxation times than [`crate::MAX_RELAXATION_TIMES`]:
     /// `per_decade` times the decades the curve spans (plus one at each end).
     #[error(

@@ -10,7 +10,7 @@
 
 use std::f64::consts::PI;
 
-use crate::error::positive;
+use crate::error::{positive, significant};
 use crate::{Branch, Prony, ViscoError};
 
 /// A master curve at its reference temperature: rows of frequency (Hz),
@@ -54,6 +54,19 @@ impl MasterCurve {
     /// given twice with different moduli; [`ViscoError::TooFewFrequencies`]
     /// under 2 distinct frequencies.
     pub fn parse_csv(text: &str) -> Result<Self, ViscoError> {
+        Self::parse_csv_within(text, [0.0, f64::INFINITY])
+    }
+
+    /// [`Self::parse_csv`] with every storage modulus within `moduli`
+    /// (Pa, `[lowest, highest]`) and every loss modulus at most the highest:
+    /// a modulus out of the caller's plausible range is refused by its
+    /// line and value, not fitted into a series that fails later for
+    /// another reason (1e-3 Pa or 1e300 Pa once read as an invalid E∞ = 0).
+    ///
+    /// # Errors
+    /// As [`Self::parse_csv`]; [`ViscoError::Csv`] naming the line, the
+    /// column and the value of a modulus out of `moduli`.
+    pub fn parse_csv_within(text: &str, moduli: [f64; 2]) -> Result<Self, ViscoError> {
         const FIELDS: [&str; 3] = [
             "frequency (Hz)",
             "storage modulus E' (Pa)",
@@ -105,23 +118,32 @@ impl MasterCurve {
                     message: format!("'{text}' is not a number"),
                 })?;
                 let ok = parsed.is_finite()
-                    && if column == 2 {
-                        parsed >= 0.0
-                    } else {
-                        parsed > 0.0
+                    && match column {
+                        0 => parsed > 0.0,
+                        1 => parsed > 0.0 && parsed >= moduli[0] && parsed <= moduli[1],
+                        _ => parsed >= 0.0 && parsed <= moduli[1],
                     };
                 if !ok {
+                    let expected = match column {
+                        0 => "finite and > 0".to_string(),
+                        1 if moduli[1].is_finite() => format!(
+                            "within [{}, {}] Pa",
+                            significant(moduli[0]),
+                            significant(moduli[1])
+                        ),
+                        1 => "finite and > 0".to_string(),
+                        _ if moduli[1].is_finite() => {
+                            format!("within [0, {}] Pa", significant(moduli[1]))
+                        }
+                        _ => "finite and >= 0".to_string(),
+                    };
                     return Err(ViscoError::Csv {
                         line,
                         column: column + 1,
                         field,
                         message: format!(
-                            "{parsed} is out of range (expected {})",
-                            if column == 2 {
-                                "finite and >= 0"
-                            } else {
-                                "finite and > 0"
-                            }
+                            "{} is out of range (expected {expected})",
+                            significant(parsed)
                         ),
                     });
                 }
@@ -186,7 +208,92 @@ impl MasterCurve {
                 needed: 2,
             });
         }
+        if let Some(fall) = self.storage_fall()
+            && fall.fraction() > MAX_STORAGE_FALL
+        {
+            return Err(ViscoError::StorageModulusFalls {
+                fall,
+                max: MAX_STORAGE_FALL,
+            });
+        }
         Ok(())
+    }
+
+    /// The largest fall of the storage modulus with frequency: over the
+    /// points in frequency order, the lowest `E'` relative to the highest
+    /// at a lower frequency; `None` when `E'` never decreases.
+    ///
+    /// A passive linear viscoelastic solid's `E'(ω)` is non-decreasing (so
+    /// is every Prony series with non-negative moduli, which is all
+    /// [`fit_prony`] can return): a fall is measurement noise when small,
+    /// a wrong column or unit when large.
+    pub fn storage_fall(&self) -> Option<StorageFall> {
+        let mut order: Vec<usize> = (0..self.frequency.len().min(self.storage.len())).collect();
+        order.sort_by(|&a, &b| self.frequency[a].total_cmp(&self.frequency[b]));
+        let mut peak: Option<(f64, f64)> = None;
+        let mut worst: Option<StorageFall> = None;
+        for k in order {
+            let point = (self.frequency[k], self.storage[k]);
+            match peak {
+                Some(top) if point.1 < top.1 => {
+                    let fall = StorageFall {
+                        from: top,
+                        to: point,
+                    };
+                    if worst.is_none_or(|w| fall.fraction() > w.fraction()) {
+                        worst = Some(fall);
+                    }
+                }
+                Some(top) if point.1 == top.1 => {}
+                _ => peak = Some(point),
+            }
+        }
+        worst
+    }
+}
+
+/// Largest fall of a master curve's storage modulus with frequency that a
+/// fit accepts, as a fraction of the highest `E'` below it: 20 %. A DMA's
+/// repeatability is a few per cent, so a larger fall is not noise but a
+/// wrong column, unit or curve; [`fit_prony`] refuses it. A smaller one is
+/// smoothed by the fit (a Prony series cannot fall) and is for the caller
+/// to report ([`MasterCurve::storage_fall`], [`STORAGE_NOISE`]).
+pub const MAX_STORAGE_FALL: f64 = 0.2;
+
+/// A fall of the storage modulus beyond which a caller should say so
+/// (1 %): below it, any DMA's noise.
+pub const STORAGE_NOISE: f64 = 0.01;
+
+/// Where a master curve's storage modulus falls most with frequency
+/// ([`MasterCurve::storage_fall`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StorageFall {
+    /// The highest `(frequency (Hz), E' (Pa))` before the fall.
+    pub from: (f64, f64),
+    /// The lowest point after it at a higher frequency.
+    pub to: (f64, f64),
+}
+
+impl StorageFall {
+    /// The fall as a fraction of `from`'s `E'`, in (0, 1).
+    pub fn fraction(&self) -> f64 {
+        1.0 - self.to.1 / self.from.1
+    }
+}
+
+/// "the storage modulus E' falls from 2e6 Pa at 1 Hz to 1.9e6 Pa at 10 Hz
+/// (5% lower)".
+impl std::fmt::Display for StorageFall {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the storage modulus E' falls from {} Pa at {} Hz to {} Pa at {} Hz ({}% lower)",
+            significant(self.from.1),
+            significant(self.from.0),
+            significant(self.to.1),
+            significant(self.to.0),
+            significant(100.0 * self.fraction())
+        )
     }
 }
 

@@ -76,7 +76,10 @@ pub use bem::{ViscoBem, ViscoBemStep};
 pub use bem_rolling::{StepHistory, TreadMemory};
 pub use compare::{Comparison, SphereField, compare_on_spheres, compare_on_spheres_with};
 pub use error::{ViscoError, significant};
-pub use fit::{MAX_PER_DECADE, MAX_RELAXATION_TIMES, MasterCurve, fit_prony, fit_prony_with_times};
+pub use fit::{
+    MAX_PER_DECADE, MAX_RELAXATION_TIMES, MAX_STORAGE_FALL, MasterCurve, STORAGE_NOISE,
+    StorageFall, fit_prony, fit_prony_with_times,
+};
 pub use history::{
     Hereditary, ViscoStep, ramp_hold_unload, run_load_history, run_load_history_with,
 };

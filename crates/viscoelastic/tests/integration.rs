@@ -8,6 +8,7 @@ mod support;
 
 mod bem_reference;
 mod hereditary;
+mod master_curve;
 mod rolling;
 mod rolling_coupled;
 mod ting;

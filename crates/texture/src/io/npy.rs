@@ -176,10 +176,13 @@ fn floats_nd(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>, bool), TextureError>
 }
 
 /// Refuses a header whose declared shape cannot be this file's array:
-/// more points than [`MAX_POINTS`] (or than `u128` counts) or more data
-/// than the bytes after the header hold. The reader multiplies the shape
-/// out before reading, so a forged header must be caught first. A header
-/// this cannot parse is left to the reader's own errors.
+/// more points than [`MAX_POINTS`] (or than `u128` counts), more data
+/// than the bytes after the header hold, or, for a float array, fewer (the
+/// reader would take the declared points and drop the rest silently: a
+/// 200 × 200 map under a `(100, 100)` header read as a 100 × 100 one). The
+/// reader multiplies the shape out before reading, so a forged header must
+/// be caught first. A header this cannot parse is left to the reader's own
+/// errors.
 fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
     let Some((header, data)) = split_header(bytes) else {
         if bytes.starts_with(b"\x93NUMPY") {
@@ -208,17 +211,29 @@ fn check_declared_size(bytes: &[u8]) -> Result<(), TextureError> {
             )
         })?;
     // The element size from the descr's digits ('<f8' -> 8); 1 if unknown.
-    let element = header_descr(&header)
-        .map(|d| d.trim_start_matches(|c: char| !c.is_ascii_digit()))
-        .and_then(|d| d.parse::<u128>().ok())
+    let descr = header_descr(&header).unwrap_or("");
+    let element = descr
+        .trim_start_matches(|c: char| !c.is_ascii_digit())
+        .parse::<u128>()
         .unwrap_or(1);
     let needed = points * element;
-    if (data.len() as u128) < needed {
+    let held = data.len() as u128;
+    // Only a float's size is its descr's digits ('<U8' holds 32 bytes a
+    // point), and only floats are read: other dtypes keep their own error.
+    let float = descr
+        .trim_start_matches(['<', '>', '=', '|'])
+        .starts_with('f');
+    if held < needed || (float && held > needed) {
         return Err(TextureError::format(
             NPY,
             format!(
-                "declared shape {dims:?} ({points} points, {needed} bytes) but the file holds {} bytes of data",
-                data.len()
+                "declared shape {dims:?} ({points} points, {needed} bytes) but the file holds {held} \
+                 bytes of data{}",
+                if held > needed {
+                    ": a wrong shape in the header, or data appended after the array"
+                } else {
+                    ""
+                }
             ),
         ));
     }
@@ -340,6 +355,44 @@ pub(crate) mod tests {
         let err = npy_from_bytes(&short, 1e-4, 1e-4).unwrap_err().to_string();
         assert!(err.contains("9 points"), "{err}");
         assert!(npy_from_bytes(&forged_npy("(3, 3)", 72), 1e-4, 1e-4).is_ok());
+    }
+
+    /// Regression (adversarial run): a `(100, 100)` header over 200 × 200
+    /// float64 values was read as the first 100 × 100 of them. Data past
+    /// the declared array is refused, naming both byte counts; a float32
+    /// array's size is its own.
+    #[test]
+    fn data_longer_than_the_header_declares_is_refused() {
+        let long = forged_npy("(100, 100)", 200 * 200 * 8);
+        let err = npy_from_bytes(&long, 1e-4, 1e-4).unwrap_err();
+        assert!(matches!(
+            err,
+            TextureError::Format {
+                format: "NumPy",
+                ..
+            }
+        ));
+        assert_eq!(
+            err.to_string(),
+            "malformed NumPy data: declared shape [100, 100] (10000 points, 80000 bytes) but \
+             the file holds 320000 bytes of data: a wrong shape in the header, or data \
+             appended after the array"
+        );
+        // One byte past the array is enough.
+        let err = npy_from_bytes(&forged_npy("(3, 3)", 73), 1e-4, 1e-4).unwrap_err();
+        assert!(
+            err.to_string().contains("72 bytes) but the file holds 73"),
+            "{err}"
+        );
+        let f4 = npy(&[2, 2], &[0.5f32, 1.5, 2.5, 3.5]);
+        assert!(npy_from_bytes(&f4, 1e-4, 1e-4).is_ok());
+        let mut f4_long = f4;
+        f4_long.extend_from_slice(&[0u8; 4]);
+        let err = npy_from_bytes(&f4_long, 1e-4, 1e-4).unwrap_err();
+        assert!(
+            err.to_string().contains("16 bytes) but the file holds 20"),
+            "{err}"
+        );
     }
 
     /// Regression (second adversarial run): a header length past the end

@@ -121,7 +121,8 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
     let data_offset = (prefix + len) as u64;
     // A window reads `ny` points per column: the declared shape must be
     // the file's, or a forged header would size the reads (and their
-    // buffers) from nothing.
+    // buffers) from nothing, and a shape short of the data would read
+    // columns of a map that is not the file's.
     let stored = file
         .metadata()
         .map_err(|e| TextureError::io(path, e))?
@@ -131,7 +132,7 @@ fn layout_from(file: &mut File, path: &Path) -> Result<NpyLayout, TextureError> 
         .checked_mul(ny as u128)
         .and_then(|n| n.checked_mul(element as u128))
         .unwrap_or(u128::MAX);
-    if ny > crate::MAX_POINTS || needed > u128::from(stored) {
+    if ny > crate::MAX_POINTS || needed != u128::from(stored) {
         return Err(bad(&format!(
             "declared shape ({ny}, {nx}) needs {needed} bytes of data, the file holds {stored}"
         )));
@@ -253,6 +254,10 @@ mod tests {
             ("(4294967296, 4294967296)", 32, true),
             ("(3, 3)", 64, true),
             ("(3, 3)", 72, false),
+            // Data past the declared array (adversarial run: a (100, 100)
+            // header over 200 × 200 values): refused as the whole reader
+            // refuses it.
+            ("(3, 3)", 80, true),
         ] {
             let bytes = crate::io::npy::tests::forged_npy(shape, data);
             std::fs::write(&path, bytes).unwrap();
@@ -265,6 +270,7 @@ mod tests {
             if refused {
                 let err = layout.unwrap_err().to_string();
                 assert!(err.contains("declared shape"), "{err}");
+                assert!(err.contains(&format!("the file holds {data}")), "{err}");
                 assert!(read_npy_window(&path, 1e-4, 1e-4, 0..2).is_err());
             }
         }
