@@ -147,4 +147,6 @@ pub use roads::{
 pub use segment::{Asperity, SegmentOptions, Segmentation, SummitFit, UNLABELLED, segment};
 pub use segment_split::split_wide_tops;
 pub use segment_window::{WindowFrame, WindowSegmentation, segment_window};
-pub use synth::{Aggregate, ChipShape, MIN_CHIP_CELLS, SelfAffine, aggregate, self_affine};
+pub use synth::{
+    Aggregate, ChipShape, MAX_CHIPS, MIN_CHIP_CELLS, SelfAffine, aggregate, self_affine,
+};

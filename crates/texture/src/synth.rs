@@ -439,6 +439,47 @@ fn rotation(azimuth: f64, tilt: f64, tilt_axis: f64) -> [[f64; 3]; 3] {
 /// number of chippings to at most `coverage / (4π)` per cell.
 pub const MIN_CHIP_CELLS: f64 = 4.0;
 
+/// The most chippings one aggregate map draws ([`aggregate`] refuses a map
+/// whose coverage needs more: `coverage × area / mean chipping area`).
+pub const MAX_CHIPS: usize = 10_000_000;
+
+/// The error of a map needing `count` chippings, more than [`MAX_CHIPS`].
+fn too_many_chips(count: f64) -> TextureError {
+    TextureError::InvalidParameter {
+        name: "chippings to draw (coverage × map area / mean chipping area)",
+        value: count,
+        requirement: "at most 10 million: synthesise a smaller map (or tile it) or lower the coverage",
+    }
+}
+
+/// The chipping size at cumulative percentage `u` of the grading `g`
+/// (sizes interpolated linearly between its points).
+fn grading_size(g: &[(f64, f64)], u: f64) -> f64 {
+    let k = g
+        .iter()
+        .position(|&(_, c)| c >= u)
+        .unwrap_or(g.len() - 1)
+        .max(1);
+    let ((s0, p0), (s1, p1)) = (g[k - 1], g[k]);
+    if p1 > p0 {
+        s0 + (s1 - s0) * (u - p0) / (p1 - p0)
+    } else {
+        s1
+    }
+}
+
+/// The mean plan area `π a b` of a chipping drawn from grading `g` between
+/// percentages `c0` and `c1` (`b` half its size, `a = b e`, `e` uniform in
+/// `elongation`): the midpoint rule on 256 percentages.
+fn mean_chip_area(g: &[(f64, f64)], (c0, c1): (f64, f64), elongation: (f64, f64)) -> f64 {
+    const N: usize = 256;
+    let mean_square = (0..N)
+        .map(|k| grading_size(g, c0 + (c1 - c0) * (k as f64 + 0.5) / N as f64).powi(2))
+        .sum::<f64>()
+        / N as f64;
+    0.25 * std::f64::consts::PI * mean_square * 0.5 * (elongation.0 + elongation.1)
+}
+
 /// Synthesise an aggregate surface (see [`Aggregate`]).
 ///
 /// # Errors
@@ -531,26 +572,23 @@ pub fn aggregate(p: &Aggregate) -> Result<HeightMap, TextureError> {
     let (lx, ly) = (p.nx as f64 * p.dx, p.ny as f64 * p.dy);
     let margin = 0.5 * smax;
     let area = lx * ly;
+    // Refused before anything is drawn: a map needing more chippings than
+    // the generator draws would stop short of its coverage without a word.
+    let expected = p.coverage * area / mean_chip_area(g, (c0, c1), p.elongation);
+    if expected > MAX_CHIPS as f64 {
+        return Err(too_many_chips(expected));
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(p.seed);
     let mut h = vec![0.0f64; n];
     let mut placed = 0.0;
     let mut count = 0usize;
-    let max_chips = 10_000_000usize;
-    while placed < p.coverage * area && count < max_chips {
+    while placed < p.coverage * area {
+        if count == MAX_CHIPS {
+            // The draw outran its expectation (a few per cent at most).
+            return Err(too_many_chips(count as f64));
+        }
         count += 1;
-        let u = c0 + (c1 - c0) * rng.random::<f64>();
-        let k = g
-            .iter()
-            .position(|&(_, c)| c >= u)
-            .unwrap_or(g.len() - 1)
-            .max(1);
-        let (s0, p0) = g[k - 1];
-        let (s1, p1) = g[k];
-        let s = if p1 > p0 {
-            s0 + (s1 - s0) * (u - p0) / (p1 - p0)
-        } else {
-            s1
-        };
+        let s = grading_size(g, c0 + (c1 - c0) * rng.random::<f64>());
         let b = 0.5 * s;
         let axes = [
             b * uniform(&mut rng, p.elongation),

@@ -481,3 +481,31 @@ fn a_coarse_spacing_that_cannot_draw_a_chipping_is_refused() {
         4e-3
     );
 }
+
+/// Regression (adversarial review, 2026-11-30): the generator stopped at
+/// ten million chippings without a word, leaving a map that needed more
+/// short of its coverage. Such a map (14 × 14 m at 0.7 mm, coverage 20:
+/// some 143 million 4/6 chippings) is refused before anything is drawn or
+/// its 400 million heights allocated, naming the count.
+#[test]
+fn a_map_needing_more_chippings_than_the_generator_draws_is_refused() {
+    use tyreroad_texture::{Aggregate, MAX_CHIPS, aggregate};
+    assert_eq!(MAX_CHIPS, 10_000_000);
+    let mut huge = Aggregate::new(20_000, 20_000, 0.7e-3, 0.7e-3, Aggregate::grading_4_6(), 1);
+    huge.coverage = 20.0;
+    match aggregate(&huge) {
+        Err(TextureError::InvalidParameter {
+            name,
+            value,
+            requirement,
+        }) => {
+            assert!(name.starts_with("chippings to draw"), "{name}");
+            assert!(value > 1e8 && value < 1e9, "{value}");
+            assert!(
+                requirement.starts_with("at most 10 million"),
+                "{requirement}"
+            );
+        }
+        other => panic!("expected the chippings refused, got {other:?}"),
+    }
+}
