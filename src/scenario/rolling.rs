@@ -98,22 +98,23 @@ impl RoadSummary {
                 youngs_modulus * 1e-6
             ));
         }
-        let (hx, hy) = config.tread.half_extents();
+        let ([x0, x1], [y0, y1]) = config.swept_window();
         let mm = |v: f64| v * 1e3;
         for s in config.sensors_off_the_path() {
             self.warnings_mut().push(format!(
-                "sensor {:?} (x = {:.1} … {:.1} mm, y = {:.1} … {:.1} mm) lies outside every \
-                 footprint of the path (x = {:.1} … {:.1} mm, y = {:.1} … {:.1} mm): it reads \
-                 no force at any step (move the sensor onto the path)",
+                "sensor {:?} (x = {:.1} … {:.1} mm, y = {:.1} … {:.1} mm) lies outside the \
+                 region the path's footprints and their margins reach (x = {:.1} … {:.1} mm, \
+                 y = {:.1} … {:.1} mm): it reads no force at any step (move the sensor onto \
+                 the path)",
                 s.name,
                 mm(s.x[0]),
                 mm(s.x[1]),
                 mm(s.y[0]),
                 mm(s.y[1]),
-                mm(config.start.min(config.end) - hx),
-                mm(config.start.max(config.end) + hx),
-                mm(config.lateral - hy),
-                mm(config.lateral + hy),
+                mm(x0),
+                mm(x1),
+                mm(y0),
+                mm(y1),
             ));
         }
     }

@@ -45,6 +45,17 @@ fn number(row: &HashMap<String, String>, key: &str, path: &Path) -> Result<f64> 
         .with_context(|| format!("{}: {key} = {v:?} is not a number", path.display()))
 }
 
+/// The step id in `row`'s `step` column: a whole number (a step id read
+/// as a float and cast would turn `2.5` into 2 and `1e30` into the
+/// largest id).
+fn step_id(row: &HashMap<String, String>, path: &Path) -> Result<usize> {
+    let v = row
+        .get("step")
+        .with_context(|| format!("{}: no column step", path.display()))?;
+    v.parse()
+        .with_context(|| format!("{}: step = {v:?} is not a step id", path.display()))
+}
+
 /// The file beside the saved signals that names what the BEM was solved
 /// for ([`BemReference::to_text`]).
 pub const REFERENCE_FILE: &str = "rolling_bem_reference.txt";
@@ -111,7 +122,7 @@ pub fn read(
     for row in read_csv(&steps_path)? {
         let total_force = number(&row, "total_force_bem_n", &steps_path)?;
         steps.push(BemStep {
-            index: number(&row, "step", &steps_path)? as usize,
+            index: step_id(&row, &steps_path)?,
             position: number(&row, "position_m", &steps_path)?,
             time: number(&row, "time_s", &steps_path)?,
             total_force,
@@ -127,6 +138,7 @@ pub fn read(
         });
     }
     let first = steps.first().map_or(0, |s| s.index);
+    let mut seen = std::collections::HashSet::new();
     for row in read_csv(&sensors_path)? {
         let name = row.get("sensor").map(String::as_str).unwrap_or("");
         let Some(k) = config.sensors.iter().position(|s| s.name == name) else {
@@ -135,14 +147,14 @@ pub fn read(
                 sensors_path.display()
             );
         };
-        let i = number(&row, "step", &sensors_path)? as usize;
+        let i = step_id(&row, &sensors_path)?;
         let Some(step) = i.checked_sub(first).and_then(|j| steps.get_mut(j)) else {
             bail!(
                 "{}: step {i} is not in the steps file",
                 sensors_path.display()
             );
         };
-        if !step.sensor_forces[k].is_nan() {
+        if !seen.insert((i, k)) {
             bail!(
                 "{}: step {i}, sensor {name:?} is given twice",
                 sensors_path.display()
@@ -175,13 +187,14 @@ fn check_complete(
     for (j, s) in steps.iter().enumerate() {
         // Rows one per step, in order: a repeated or missing step id would
         // put every later sample at another step than the BEM solved.
-        if s.index != steps[0].index + j {
+        let expected = steps[0].index.checked_add(j);
+        if Some(s.index) != expected {
             bail!(
                 "{}: row {} is step {}, expected step {} (the steps are consecutive)",
                 steps_path.display(),
                 j + 1,
                 s.index,
-                steps[0].index + j
+                expected.map_or("past the largest id".into(), |e| e.to_string())
             );
         }
         if !(s.position.is_finite() && s.time.is_finite()) {
@@ -335,14 +348,14 @@ mod tests {
         let options = BemRollingOptions::default();
         let reference = scenario_bem_reference(&this, Path::new("."), &options).expect("reference");
         std::fs::write(dir.join(REFERENCE_FILE), reference.to_text()).expect("write");
-        let write = |ids: [usize; 5], sensor: &str| {
+        let write = |ids: [&str; 5], sensor: &str, approach: &str| {
             let mut steps = String::from(
                 "step,position_m,time_s,total_force_bem_n,approach_bem_m,contact_area_bem_m2\n",
             );
             let mut sensors = String::from("step,sensor,bem_n\n");
             for (k, id) in ids.into_iter().enumerate() {
                 let x = 0.010 + 1e-3 * k as f64;
-                steps.push_str(&format!("{id},{x},{},30,1e-4,2e-6\n", x / 10.0));
+                steps.push_str(&format!("{id},{x},{},30,{approach},2e-6\n", x / 10.0));
                 let f = if k == 2 { sensor } else { "12.5" };
                 sensors.push_str(&format!("{k},s,{f}\n"));
             }
@@ -350,23 +363,34 @@ mod tests {
             std::fs::write(dir.join("rolling_bem_sensors.csv"), sensors).expect("write");
         };
         let read_back = || read(&dir, &this, (&reference, SavedAs::SameRun));
-        write([0, 1, 2, 3, 4], "30");
+        let ids = ["0", "1", "2", "3", "4"];
+        write(ids, "30", "1e-4");
         let saved = read_back().expect("a whole run");
         assert_eq!(saved.steps[2].sensor_forces, [30.0]);
+        // A negative approach is a run's right (a tread held above the road).
+        write(ids, "30", "-1e-4");
+        assert!(read_back().is_ok());
         for (sensor, ids, expected) in [
             (
                 "2.4e30",
-                [0, 1, 2, 3, 4],
+                ids,
                 "step 2: sensor \"s\" carries 2400000000000000000000000000000 N, outside 0 … 30 N",
             ),
+            ("-2.4", ids, "step 2: sensor \"s\" carries -2.4 N"),
             (
-                "-2.4",
-                [0, 1, 2, 3, 4],
-                "step 2: sensor \"s\" carries -2.4 N",
+                "12.5",
+                ["0", "0", "2", "3", "4"],
+                "row 2 is step 0, expected step 1",
             ),
-            ("12.5", [0, 0, 2, 3, 4], "row 2 is step 0, expected step 1"),
+            // Read as a float and cast, 1e30 was the largest id and the
+            // next row's expected id overflowed.
+            (
+                "12.5",
+                ["0", "1e30", "2", "3", "4"],
+                "step = \"1e30\" is not a step id",
+            ),
         ] {
-            write(ids, sensor);
+            write(ids, sensor, "1e-4");
             let message = format!("{:#}", read_back().expect_err(sensor));
             assert!(message.contains(expected), "{message}");
         }

@@ -176,16 +176,27 @@ impl RollingConfig {
         Some(load / (4.0 * hx * hy))
     }
 
-    /// The sensors no footprint of the path covers: the tread's box
-    /// (`x_c ± L/2`, `lateral ± W/2`, the tread's half extents) swept
-    /// from the first step to the last never meets their rectangle, so
-    /// they read no force at any step (a sensor off the road, or beside
-    /// the path).
-    pub fn sensors_off_the_path(&self) -> Vec<&Sensor> {
+    /// The rectangle `([x0, x1], [y0, y1])` (m) the path's selection windows
+    /// sweep, from the first step to the last: the tread's box (`x_c ±
+    /// L/2`, `lateral ± W/2`) grown by its effective margin, and by a tenth
+    /// of its half extents more (a contact selected at the window's edge
+    /// spreads its pressure a little past it). No force reaches a point
+    /// outside it at any step.
+    pub fn swept_window(&self) -> ([f64; 2], [f64; 2]) {
         let (hx, hy) = self.tread.half_extents();
+        let m = self.tread.effective_margin(self.margin);
+        let (gx, gy) = (hx + m + 0.1 * hx, hy + m + 0.1 * hy);
         let last = self.position(self.steps() - 1);
-        let along = [self.start.min(last) - hx, self.start.max(last) + hx];
-        let across = [self.lateral - hy, self.lateral + hy];
+        (
+            [self.start.min(last) - gx, self.start.max(last) + gx],
+            [self.lateral - gy, self.lateral + gy],
+        )
+    }
+
+    /// The sensors wholly outside [`Self::swept_window`]: they read no
+    /// force at any step (a sensor off the road, or beside the path).
+    pub fn sensors_off_the_path(&self) -> Vec<&Sensor> {
+        let (along, across) = self.swept_window();
         let meets = |a: [f64; 2], b: [f64; 2]| a[0] <= b[1] && b[0] <= a[1];
         self.sensors
             .iter()

@@ -72,7 +72,7 @@ pub enum ViscoError {
     /// [`crate::MAX_STORAGE_FALL`]: no passive material does (its `E'` is
     /// non-decreasing), and no Prony series can follow it.
     #[error(
-        "master curve: {fall}: a passive tread's E' does not decrease with frequency, and falls \
+        "{fall}: a passive tread's E' does not decrease with frequency, and falls \
          over {}% are not measurement noise (check the columns: frequency, E', E'')",
         significant(100.0 * *max)
     )]

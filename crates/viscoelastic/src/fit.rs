@@ -208,6 +208,27 @@ impl MasterCurve {
                 needed: 2,
             });
         }
+        // One frequency given twice with other moduli (a curve built in
+        // code; the CSV reader refuses it by line): its "fall" would be at
+        // a single frequency.
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| {
+            self.frequency[a]
+                .total_cmp(&self.frequency[b])
+                .then(a.cmp(&b))
+        });
+        for pair in order.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            if self.frequency[a] == self.frequency[b]
+                && (self.storage[a] != self.storage[b] || self.loss[a] != self.loss[b])
+            {
+                return Err(ViscoError::ConflictingFrequency {
+                    first_line: a + 1,
+                    line: b + 1,
+                    frequency: self.frequency[a],
+                });
+            }
+        }
         if let Some(fall) = self.storage_fall()
             && fall.fraction() > MAX_STORAGE_FALL
         {

@@ -29,7 +29,7 @@ fn a_storage_modulus_falling_with_frequency_is_refused() {
     assert_eq!(err, ViscoError::StorageModulusFalls { fall, max: 0.2 });
     assert_eq!(
         err.to_string(),
-        "master curve: the storage modulus E' falls from 9e6 Pa at 1 Hz to 1e6 Pa at 100 Hz \
+        "the storage modulus E' falls from 9e6 Pa at 1 Hz to 1e6 Pa at 100 Hz \
          (88.8889% lower): a passive tread's E' does not decrease with frequency, and falls \
          over 20% are not measurement noise (check the columns: frequency, E', E'')"
     );
@@ -92,4 +92,30 @@ fn master_curve_moduli_out_of_range_are_named_by_line_and_value() {
     // The limits pass, and without a range only the sign is checked.
     assert!(MasterCurve::parse_csv_within("1,1e3,0\n10,1e12,1e12\n", range).is_ok());
     assert!(MasterCurve::parse_csv("1,1e-3,1e-3\n10,2e-3,1e-3\n").is_ok());
+}
+
+/// Regression (review, 2026-11-30): a curve built in code with one
+/// frequency given twice at other moduli was fitted, and its "fall" was
+/// reported at a single frequency. It is refused naming both rows; the
+/// same row given twice is one point.
+#[test]
+fn a_frequency_given_twice_with_other_moduli_is_refused() {
+    let curve = MasterCurve {
+        frequency: vec![1.0, 10.0, 10.0, 100.0],
+        storage: vec![2e6, 3e6, 2.5e6, 4e6],
+        loss: vec![1e5, 2e5, 2e5, 3e5],
+    };
+    assert_eq!(
+        fit_prony(&curve, 3, 0.5).unwrap_err(),
+        ViscoError::ConflictingFrequency {
+            first_line: 2,
+            line: 3,
+            frequency: 10.0
+        }
+    );
+    let repeated = MasterCurve {
+        storage: vec![2e6, 3e6, 3e6, 4e6],
+        ..curve
+    };
+    assert!(fit_prony(&repeated, 3, 0.5).is_ok());
 }
