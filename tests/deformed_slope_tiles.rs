@@ -15,31 +15,10 @@ use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-const LOAD: f64 = 1500.0;
+use crate::common::{TILED_LOAD as LOAD, tiled_road, under_tread};
 
 fn tiles_scenario(slope: &str) -> String {
     tiled_road("porous_asphalt", 520, ("64 mm", "67 mm"), "wilke", slope)
-}
-
-/// A tyre at [`LOAD`] on the chip-seal fixture's grid (`nx` columns) of
-/// road `kind` with its tops split into 5 mm tiles, from `path.0` to
-/// `path.1` in 1 mm steps.
-fn tiled_road(kind: &str, nx: usize, path: (&str, &str), fidelity: &str, slope: &str) -> String {
-    let (start, end) = path;
-    format!(
-        "name = \"tiles\"\n\
-         [material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
-         [model]\nfidelity = \"{fidelity}\"\n\
-         [rolling]\nstart = \"{start}\"\nend = \"{end}\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
-         margin = \"0 mm\"\nreference_force = \"1 N\"\ncheckpoint = false\n\
-         contact_slope = \"{slope}\"\n\
-         [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
-         length = \"120 mm\"\nwidth = \"150 mm\"\n\
-         [rolling.control]\nload = \"{LOAD} N\"\n\
-         [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\nmax_cap_width = \"5 mm\"\n\
-         [texture.synth]\nkind = \"{kind}\"\nnx = {nx}\nny = 600\nspacing = \"0.25 mm\"\n\
-         seed = 2006\n"
-    )
 }
 
 /// The steps of the rolling scenario `text`, its outputs under `out`.
@@ -169,14 +148,13 @@ fn a_calibrated_run_sizes_its_tables_where_the_deformed_wilke_steps_fail() -> Te
 fn slopes_that_do_not_settle_are_held_where_their_rounds_end() -> TestResult {
     let dir = tempfile::tempdir()?;
     let run = |slope: &str| -> Result<_, Box<dyn std::error::Error>> {
-        let road = tiled_road(
+        let road = under_tread(&tiled_road(
             "porous_asphalt",
             1200,
             ("65 mm", "68 mm"),
             "calibrated_fields",
             slope,
-        )
-        .replace("[model]\n", "[model]\ncalibrate_under = \"tread\"\n");
+        ));
         rolled(&road, dir.path())
     };
     let deformed = run("deformed")?;
@@ -215,14 +193,13 @@ fn slopes_that_do_not_settle_are_held_where_their_rounds_end() -> TestResult {
 fn a_contact_drawing_load_round_after_round_settles_under_aitkens_damping() -> TestResult {
     let dir = tempfile::tempdir()?;
     let run = |fidelity: &str| -> Result<_, Box<dyn std::error::Error>> {
-        let road = tiled_road(
+        let road = under_tread(&tiled_road(
             "exposed_aggregate",
             1200,
             ("88 mm", "95 mm"),
             fidelity,
             "profile",
-        )
-        .replace("[model]\n", "[model]\ncalibrate_under = \"tread\"\n")
+        ))
         .replace("max_cap_width = \"5 mm\"", "max_cap_width = \"4 mm\"");
         rolled(&road, dir.path())
     };

@@ -9,6 +9,7 @@
 //! `calibrated` one).
 #![allow(clippy::unwrap_used)]
 
+use crate::common::{TILED_LOAD, TREAD_RUBBER, tiled_road, under_tread};
 use tyreroad::rolling::StepStatus;
 use tyreroad::scenario::{RoadSummary, RunOptions, Scenario, ScenarioResult, ViscoCase};
 
@@ -129,23 +130,20 @@ fn field_coupled_viscoelastic_rolling_is_the_elastic_field_run_at_either_limit()
     Ok(())
 }
 
-/// A tyre at 1500 N and 50 km/h on the exposed aggregate (the chip-seal
-/// fixture's grid, `kind = "exposed_aggregate"`) with its tops split into
-/// 3 mm tiles, under the test tread, from 65 to 83 mm in 1 mm steps; caps
+/// The exposed aggregate of `common::tiled_road` (1500 N, 50 km/h) under
+/// the test tread, its tops split into 3 mm tiles, from 65 to 83 mm; caps
 /// calibrated under the tread.
 fn tiled_visco_road(fidelity: &str) -> String {
-    format!(
-        "name = \"tiles\"\n{VISCO}\
-         [model]\nfidelity = \"{fidelity}\"\ncalibrate_under = \"tread\"\n\
-         [rolling]\nstart = \"65 mm\"\nend = \"83 mm\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
-         margin = \"0 mm\"\nreference_force = \"1 N\"\ncheckpoint = false\n\
-         [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
-         length = \"120 mm\"\nwidth = \"150 mm\"\n\
-         [rolling.control]\nload = \"1500 N\"\n\
-         [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\nmax_cap_width = \"3 mm\"\n\
-         [texture.synth]\nkind = \"exposed_aggregate\"\nnx = 1200\nny = 600\n\
-         spacing = \"0.25 mm\"\nseed = 2006\n"
-    )
+    let road = tiled_road(
+        "exposed_aggregate",
+        1200,
+        ("65 mm", "83 mm"),
+        fidelity,
+        "profile",
+    );
+    under_tread(&road)
+        .replace(TREAD_RUBBER, VISCO)
+        .replace("max_cap_width = \"5 mm\"", "max_cap_width = \"3 mm\"")
 }
 
 /// Guards the viscoelastic coupled step's rescue pass (docs/viscoelastic.md,
@@ -171,7 +169,7 @@ fn a_viscoelastic_field_step_left_crawling_settles_under_aitkens_damping() -> Te
         assert_eq!(step.status, StepStatus::Converged, "step {}", step.index);
         assert_eq!(yardstick.status, StepStatus::Converged);
         assert!(
-            (step.total_force - 1500.0).abs() < 1e-6 * 1500.0,
+            (step.total_force - TILED_LOAD).abs() < 1e-6 * TILED_LOAD,
             "step {} carries {} N",
             step.index,
             step.total_force

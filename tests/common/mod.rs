@@ -122,3 +122,44 @@ pub fn calibrated_road(
         cal.max_approach,
     )
 }
+
+/// The load of a [`tiled_road`] (N).
+pub const TILED_LOAD: f64 = 1500.0;
+
+/// The tread of a [`tiled_road`]: the fixtures' elastic rubber.
+pub const TREAD_RUBBER: &str = "[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n";
+
+/// A rolling scenario: a tyre at [`TILED_LOAD`] and 50 km/h on the
+/// chip-seal fixture's grid (`nx` columns, 600 rows, 0.25 mm) of road
+/// `kind` with its tops split into 5 mm tiles, from `path.0` to `path.1`
+/// in 1 mm steps, rung `fidelity`, `[rolling] contact_slope = slope`, tread
+/// [`TREAD_RUBBER`]. The tests of wide tops split into tiles take it and
+/// change what they measure by replacing its lines.
+pub fn tiled_road(
+    kind: &str,
+    nx: usize,
+    path: (&str, &str),
+    fidelity: &str,
+    slope: &str,
+) -> String {
+    let (start, end) = path;
+    format!(
+        "name = \"tiles\"\n{TREAD_RUBBER}\
+         [model]\nfidelity = \"{fidelity}\"\n\
+         [rolling]\nstart = \"{start}\"\nend = \"{end}\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
+         margin = \"0 mm\"\nreference_force = \"1 N\"\ncheckpoint = false\n\
+         contact_slope = \"{slope}\"\n\
+         [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
+         length = \"120 mm\"\nwidth = \"150 mm\"\n\
+         [rolling.control]\nload = \"{TILED_LOAD} N\"\n\
+         [texture]\nmin_prominence = \"0.1 mm\"\nmin_area = \"1 mm2\"\nmax_cap_width = \"5 mm\"\n\
+         [texture.synth]\nkind = \"{kind}\"\nnx = {nx}\nny = 600\nspacing = \"0.25 mm\"\n\
+         seed = 2006\n"
+    )
+}
+
+/// `road` (a [`tiled_road`]) with its caps calibrated under the tread
+/// (`[model] calibrate_under = "tread"`).
+pub fn under_tread(road: &str) -> String {
+    road.replace("[model]\n", "[model]\ncalibrate_under = \"tread\"\n")
+}
