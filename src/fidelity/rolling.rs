@@ -211,8 +211,7 @@ fn passes<'a>(
 }
 
 /// The largest approach (m) of `road` (Wilke laws) over nine
-/// evenly spaced steps of `config`'s path; under the profile's slope when
-/// `config` asks for the deformed tread's and none of those steps settles.
+/// evenly spaced steps of `config`'s path.
 ///
 /// # Errors
 /// [`FidelityError::Rolling`] when the run fails; [`FidelityError::InvalidInput`]
@@ -248,20 +247,12 @@ fn coarse_run(
             .map(|s| s.approach)
             .fold(f64::NAN, f64::max)
     };
-    let mut run = rolling::roll(road, material, &coarse, &options)?;
-    let mut bound = bound_of(&run);
-    // The bound only sizes the tables, and the deformed tread's slopes can
-    // fail to settle at a cold step where the profile's do not (tiles of
-    // one chipping beside a loaded one, docs/validation.md, "The exposed
-    // aggregate with 5 mm tiles"): the profile's approach is within a
-    // percent of it, and a table short of a contact is deepened later.
-    if !(bound.is_finite() && bound > 0.0)
-        && coarse.contact_slope == rolling::ContactSlope::Deformed
-    {
-        coarse.contact_slope = rolling::ContactSlope::Profile;
-        run = rolling::roll(road, material, &coarse, &options)?;
-        bound = bound_of(&run);
-    }
+    // Under the deformed tread a cold step whose slopes do not settle is
+    // kept on the profile's (`Recovery::ProfileSlope`): its approach is
+    // within a percent of the deformed one's, and a table short of a
+    // contact is deepened later.
+    let run = rolling::roll(road, material, &coarse, &options)?;
+    let bound = bound_of(&run);
     if bound.is_finite() && bound > 0.0 {
         Ok((bound, run))
     } else {

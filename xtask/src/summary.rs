@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 use tyreroad::multipoint::Convergence;
-use tyreroad::rolling::StepStatus;
+use tyreroad::rolling::{Recovery, StepStatus};
 use tyreroad::scenario::output::steps_stream::NotConverged;
 use tyreroad::scenario::{CalibrationSummary, StaticResult, TextureResult};
 
@@ -81,6 +81,11 @@ impl Fallbacks {
         for s in not_converged {
             let what = match s.status {
                 StepStatus::Converged => continue,
+                StepStatus::Stagnated if s.recovery == Recovery::ProfileSlope => format!(
+                    "the deformed tread's slopes did not settle (last move {:.3e} of the \
+                     load): kept solved under the tread's profile slope",
+                    s.residual
+                ),
                 StepStatus::Stagnated => format!(
                     "stagnated at a relative residual of {:.3e} (kept)",
                     s.residual
@@ -238,20 +243,31 @@ mod tests {
             position: 0.001 * index as f64,
             status,
             residual: 2e-9,
+            recovery: Recovery::None,
+        };
+        let on_profile = NotConverged {
+            residual: 7e-3,
+            recovery: Recovery::ProfileSlope,
+            ..step(3, StepStatus::Stagnated)
         };
         let steps = [
             step(0, StepStatus::Converged),
             step(1, StepStatus::Stagnated),
             step(2, StepStatus::Failed),
+            on_profile,
         ];
         let f = Fallbacks::from_rolling(&steps);
-        assert_eq!(f.len(), 2);
+        assert_eq!(f.len(), 3);
         let lines = f.lines();
         assert!(
             lines[1]
                 .contains("step 1 at x = 0.001000 m: stagnated at a relative residual of 2.000e-9")
         );
         assert!(lines[2].contains("step 2 at x = 0.002000 m: failed"));
+        assert!(lines[3].contains(
+            "step 3 at x = 0.003000 m: the deformed tread's slopes did not settle (last move \
+             7.000e-3 of the load): kept solved under the tread's profile slope"
+        ));
         assert!(f.finish(true).is_err());
     }
 }

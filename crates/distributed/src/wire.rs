@@ -88,13 +88,14 @@ const STATUSES: [StepStatus; 3] = [
     StepStatus::Stagnated,
     StepStatus::Failed,
 ];
-const RECOVERIES: [Recovery; 6] = [
+const RECOVERIES: [Recovery; 7] = [
     Recovery::None,
     Recovery::Continuation,
     Recovery::ColdRestart,
     Recovery::DenseFallback,
     Recovery::Regularized,
     Recovery::Clustered,
+    Recovery::ProfileSlope,
 ];
 
 fn code<T: PartialEq>(all: &[T], v: &T) -> usize {

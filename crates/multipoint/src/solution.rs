@@ -58,6 +58,10 @@ pub enum Recovery {
     /// ([`Clusters::OnFailure`](crate::Clusters)), or because overlaps were
     /// found under [`Clusters::Always`](crate::Clusters).
     Clustered,
+    /// Never set by the solver: a rolling step (`tyreroad-rolling`) whose
+    /// deformed tread's slopes did not settle, solved again under the
+    /// tread's undeformed profile.
+    ProfileSlope,
 }
 
 /// A solved multipoint contact.

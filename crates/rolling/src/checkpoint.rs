@@ -524,13 +524,14 @@ fn parse_record(line: &str, sensors: usize) -> Option<StepRecord> {
     })
 }
 
-const RECOVERIES: [Recovery; 6] = [
+const RECOVERIES: [Recovery; 7] = [
     Recovery::None,
     Recovery::Continuation,
     Recovery::ColdRestart,
     Recovery::DenseFallback,
     Recovery::Regularized,
     Recovery::Clustered,
+    Recovery::ProfileSlope,
 ];
 
 /// What a record must satisfy to be resumed: it is the step it says it is,

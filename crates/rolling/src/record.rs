@@ -39,6 +39,7 @@ pub fn recovery_name(recovery: Recovery) -> &'static str {
         Recovery::DenseFallback => "dense_fallback",
         Recovery::Regularized => "regularized",
         Recovery::Clustered => "clustered",
+        Recovery::ProfileSlope => "profile_slope",
     }
 }
 

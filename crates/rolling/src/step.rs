@@ -348,46 +348,16 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     // The step's laws: placed at this footprint when the road says so.
     let placed = placed_laws(road, &ids, xc);
     let laws = step_laws(road, &ids, placed.as_deref());
-    let mut problem = build_at(
-        road,
-        material,
-        config,
-        xc,
-        &ids,
-        &laws,
-        coupling.is_some(),
+    let at = (road, material, config, xc);
+    let coupled = coupling.is_some();
+    let (mut problem, initial, warm_correction) = step_start(
+        at,
+        (&ids, &laws),
+        coupled,
         slopes.as_deref(),
+        carry.as_ref(),
+        scratch,
     )?;
-    // The previous step's correction on the pairs still selected, in this
-    // step's indices: the warm start of the coupling's fixed point.
-    let warm_correction = match coupling {
-        Some(_) => scratch
-            .correction
-            .warm(
-                &ids,
-                problem.positions(),
-                material.boussinesq_factor(),
-                &mut scratch.index,
-            )
-            .map_err(|source| RollingError::Solve {
-                position: xc,
-                source,
-            })?,
-        None => PairCorrection::default(),
-    };
-    // Warm start: previous forces mapped by asperity id, new ones at 0.
-    let initial = carry.as_ref().map(|c| {
-        for (&i, &p) in c.ids.iter().zip(&c.forces) {
-            scratch.dense[i] = p;
-        }
-        let forces: Vec<f64> = ids.iter().map(|&i| scratch.dense[i]).collect();
-        for &i in &c.ids {
-            scratch.dense[i] = 0.0;
-        }
-        // Consistent local interpenetrations of the mapped state (the
-        // solver may iterate on them).
-        Solution::consistent_warm_start(&problem, forces, c.approach, &warm_correction)
-    });
     let options = SolverOptions {
         tolerance: config.tolerance,
         max_iterations: config.max_iterations,
@@ -399,38 +369,42 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
         *carry = None;
         return Ok(failed_step(config, k, ids.len(), 0, 1.0));
     }
-    let solved = match coupling {
-        None => settle_slopes(
-            (road, material, config, xc),
-            (&ids, &laws),
-            (&mut problem, &mut slopes),
-            (control, &options),
-            initial.as_ref(),
-        )?,
-        Some(coupling) => {
-            let fixed = fixed_point(
-                (&mut problem, &mut slopes),
-                (&ids, &laws),
-                (control, &options),
-                initial.as_ref(),
-                &warm_correction,
-                coupling,
-                (road, material, config, xc),
-            )?;
-            match fixed {
-                Ok((solution, correction)) => {
-                    scratch.correction.keep(
-                        &ids,
-                        &correction,
-                        problem.positions(),
-                        material.boussinesq_factor(),
-                    );
-                    Ok(solution)
-                }
-                Err(e) => Err(e),
-            }
+    let laws_of = (ids.as_slice(), laws.as_slice());
+    let how = (control, &options, coupling);
+    let mut solved = solve_once(
+        at,
+        laws_of,
+        how,
+        (&mut problem, &mut slopes),
+        (initial.as_ref(), &warm_correction),
+        &mut scratch.correction,
+    )?;
+    // The deformed tread's slopes that do not settle (a ridge of flat tiles
+    // along the path, whose contact points swing from end to end with the
+    // slope) leave the step to the profile's slope, warm-started as the
+    // step was, and marked: the step is kept short of the deformed tread by
+    // the slopes' last move.
+    if let (
+        Err(SolveError::NotConverged {
+            residual,
+            iterations,
+            ..
+        }),
+        Some(_),
+    ) = (&solved, &slopes)
+    {
+        let (moving, spent) = (*residual, *iterations);
+        let mut profile = None;
+        let (mut retry, initial, warm) =
+            step_start(at, (&ids, &laws), coupled, None, carry.as_ref(), scratch)?;
+        let warm = (initial.as_ref(), &warm);
+        let kept = &mut scratch.correction;
+        if let Ok(s) = solve_once(at, laws_of, how, (&mut retry, &mut profile), warm, kept)? {
+            problem = retry;
+            slopes = None;
+            solved = Ok(on_the_profile_slope(s, moving, spent));
         }
-    };
+    }
     let solution = match solved {
         Ok(solution) => solution,
         // One step that does not converge is that step's failure, not the
@@ -643,6 +617,99 @@ enum Pass {
     HeldSlopes,
     /// The same again, at fixed slopes, under Aitken's damping.
     Aitken,
+}
+
+/// A step's problem under `slopes` ([`build_at`]; `None`: the profile's)
+/// and its warm start: the previous step's forces mapped by asperity id
+/// (new ones at zero) with consistent interpenetrations, and for a
+/// `coupled` step the previous step's coupling on the pairs still
+/// selected, at this problem's contact points.
+#[allow(clippy::type_complexity)]
+fn step_start<'p, L: ContactLaw>(
+    (road, material, config, xc): (&Road<L>, Material, &RollingConfig, f64),
+    (ids, laws): (&[usize], &[&'p L]),
+    coupled: bool,
+    slopes: Option<&[[f64; 2]]>,
+    carry: Option<&Carry>,
+    scratch: &mut Scratch,
+) -> Result<(Problem<&'p L>, Option<Solution>, PairCorrection), RollingError> {
+    let problem = build_at(road, material, config, xc, ids, laws, coupled, slopes)?;
+    let correction = if coupled {
+        scratch
+            .correction
+            .warm(
+                ids,
+                problem.positions(),
+                material.boussinesq_factor(),
+                &mut scratch.index,
+            )
+            .map_err(|source| RollingError::Solve {
+                position: xc,
+                source,
+            })?
+    } else {
+        PairCorrection::default()
+    };
+    let initial = carry.map(|c| {
+        for (&i, &p) in c.ids.iter().zip(&c.forces) {
+            scratch.dense[i] = p;
+        }
+        let forces: Vec<f64> = ids.iter().map(|&i| scratch.dense[i]).collect();
+        for &i in &c.ids {
+            scratch.dense[i] = 0.0;
+        }
+        // Consistent local interpenetrations of the mapped state (the
+        // solver may iterate on them).
+        Solution::consistent_warm_start(&problem, forces, c.approach, &correction)
+    });
+    Ok((problem, initial, correction))
+}
+
+/// One attempt at a step's solve: the uncoupled step's slopes settled
+/// ([`settle_slopes`]) or the coupled step's fixed point ([`fixed_point`]),
+/// whose correction is kept in `kept` for the next step's warm start.
+fn solve_once<'p, L: ContactLaw + Sync>(
+    at: (&Road<L>, Material, &RollingConfig, f64),
+    (ids, laws): (&[usize], &[&'p L]),
+    (control, options, coupling): (Control, &SolverOptions, Option<&dyn StepCoupling<L>>),
+    (problem, slopes): (&mut Problem<&'p L>, &mut Option<Vec<[f64; 2]>>),
+    (initial, warm): (Option<&Solution>, &PairCorrection),
+    kept: &mut KeptCoupling,
+) -> Result<Result<Solution, SolveError>, RollingError> {
+    let Some(coupling) = coupling else {
+        return settle_slopes(
+            at,
+            (ids, laws),
+            (problem, slopes),
+            (control, options),
+            initial,
+        );
+    };
+    let fixed = fixed_point(
+        (problem, slopes),
+        (ids, laws),
+        (control, options),
+        initial,
+        warm,
+        coupling,
+        at,
+    )?;
+    Ok(fixed.map(|(solution, correction)| {
+        let factor = at.1.boussinesq_factor();
+        kept.keep(ids, &correction, problem.positions(), factor);
+        solution
+    }))
+}
+
+/// A step solved under the tread's profile slope after its deformed
+/// slopes did not settle: kept, marked stagnated at the slopes' last move
+/// `moving` (over the load) with [`Recovery::ProfileSlope`], the failed
+/// attempt's iterations `spent` counted.
+fn on_the_profile_slope(s: Solution, moving: f64, spent: usize) -> Solution {
+    let mut s = kept_stagnated(s, moving);
+    s.recovery = Recovery::ProfileSlope;
+    s.iterations += spent;
+    s
 }
 
 /// The record of a step whose solve failed: NaN values, no contacts.

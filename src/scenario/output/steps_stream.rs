@@ -24,7 +24,7 @@ use std::io::{BufReader, BufWriter, Write};
 use std::path::PathBuf;
 
 use serde::Serialize;
-use tyreroad_rolling::{StepRecord, StepStatus};
+use tyreroad_rolling::{Recovery, StepRecord, StepStatus};
 
 use super::npz_stream::{Element, NpzStream, io, npz_error, write_f64s};
 use super::{OutputSet, ScenarioError, fmt};
@@ -99,6 +99,9 @@ pub struct NotConverged {
     pub status: StepStatus,
     /// Final relative residual.
     pub residual: f64,
+    /// The attempt that produced the step (a kept step solved under the
+    /// tread's profile slope: [`Recovery::ProfileSlope`]).
+    pub recovery: Recovery,
 }
 
 /// What a run's end needs of its steps once their records are written:
@@ -165,6 +168,7 @@ impl StepSignals {
                 position: s.position,
                 status: s.status,
                 residual: s.residual,
+                recovery: s.recovery,
             });
         }
     }
