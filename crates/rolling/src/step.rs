@@ -169,14 +169,27 @@ pub fn settled_step<'r, L: ContactLaw + Sync>(
         par: Par::Seq,
         ..SolverOptions::default()
     };
-    let solution = settle_slopes(
-        (road, material, config, xc),
+    let at = (road, material, config, xc);
+    let solved = settle_slopes(
+        at,
         (&ids, &laws),
         (&mut problem, &mut slopes),
         (control, &options),
         None,
-    )?
-    .map_err(|source| RollingError::Solve {
+    )?;
+    // As the run's step: slopes that do not settle leave it to the profile's.
+    let solved = or_on_the_profile_slope(solved, (&mut problem, &mut slopes), || {
+        let mut retry = build_at(road, material, config, xc, &ids, &laws, false, None)?;
+        let solved = settle_slopes(
+            at,
+            (&ids, &laws),
+            (&mut retry, &mut None),
+            (control, &options),
+            None,
+        )?;
+        Ok(solved.ok().map(|s| (retry, s)))
+    })?;
+    let solution = solved.map_err(|source| RollingError::Solve {
         position: xc,
         source,
     })?;
@@ -371,7 +384,7 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     }
     let laws_of = (ids.as_slice(), laws.as_slice());
     let how = (control, &options, coupling);
-    let mut solved = solve_once(
+    let solved = solve_once(
         at,
         laws_of,
         how,
@@ -384,27 +397,14 @@ pub(crate) fn solve_step<L: ContactLaw + Sync>(
     // slope) leave the step to the profile's slope, warm-started as the
     // step was, and marked: the step is kept short of the deformed tread by
     // the slopes' last move.
-    if let (
-        Err(SolveError::NotConverged {
-            residual,
-            iterations,
-            ..
-        }),
-        Some(_),
-    ) = (&solved, &slopes)
-    {
-        let (moving, spent) = (*residual, *iterations);
-        let mut profile = None;
+    let solved = or_on_the_profile_slope(solved, (&mut problem, &mut slopes), || {
         let (mut retry, initial, warm) =
             step_start(at, (&ids, &laws), coupled, None, carry.as_ref(), scratch)?;
         let warm = (initial.as_ref(), &warm);
         let kept = &mut scratch.correction;
-        if let Ok(s) = solve_once(at, laws_of, how, (&mut retry, &mut profile), warm, kept)? {
-            problem = retry;
-            slopes = None;
-            solved = Ok(on_the_profile_slope(s, moving, spent));
-        }
-    }
+        let solved = solve_once(at, laws_of, how, (&mut retry, &mut None), warm, kept)?;
+        Ok(solved.ok().map(|s| (retry, s)))
+    })?;
     let solution = match solved {
         Ok(solution) => solution,
         // One step that does not converge is that step's failure, not the
@@ -699,6 +699,38 @@ fn solve_once<'p, L: ContactLaw + Sync>(
         kept.keep(ids, &correction, problem.positions(), factor);
         solution
     }))
+}
+
+/// `solved` (a step's solve under `slopes`) as it is, or, when the
+/// deformed tread's slopes did not settle, `retry`'s solve of the step
+/// under the profile's slope with its problem ([`on_the_profile_slope`]);
+/// `problem` and `slopes` are then the retry's. A retry that fails too
+/// leaves the first failure.
+fn or_on_the_profile_slope<'p, L>(
+    solved: Result<Solution, SolveError>,
+    (problem, slopes): (&mut Problem<&'p L>, &mut Option<Vec<[f64; 2]>>),
+    retry: impl FnOnce() -> Result<Option<(Problem<&'p L>, Solution)>, RollingError>,
+) -> Result<Result<Solution, SolveError>, RollingError> {
+    let (
+        Err(SolveError::NotConverged {
+            residual,
+            iterations,
+            ..
+        }),
+        Some(_),
+    ) = (&solved, &*slopes)
+    else {
+        return Ok(solved);
+    };
+    let (moving, spent) = (*residual, *iterations);
+    Ok(match retry()? {
+        Some((on_profile, s)) => {
+            *problem = on_profile;
+            *slopes = None;
+            Ok(on_the_profile_slope(s, moving, spent))
+        }
+        None => solved,
+    })
 }
 
 /// A step solved under the tread's profile slope after its deformed
