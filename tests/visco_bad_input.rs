@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use tyreroad::scenario::{RunOptions, Scenario, ScenarioError, ViscoCase};
+use tyreroad::scenario::{RunOptions, Scenario, ScenarioError, ScenarioResult, ViscoCase};
 
 const ORIGIN: &str = "bad_visco.toml";
 
@@ -43,6 +43,17 @@ fn fitted(per_decade: usize) -> String {
         "[material.viscoelastic]\nmaster_curve = \"mc.csv\"\nper_decade = {per_decade}\n\
          temperature = \"20 °C\"\n\n{WLF}"
     ))
+}
+
+/// fixtures/history_three_spheres.toml with its `[material.viscoelastic]`
+/// section (the series) replaced by `tread` (none when empty).
+fn history_with_tread(tread: &str) -> String {
+    let history = fixture("history_three_spheres.toml");
+    let start = history
+        .find("\n[material.viscoelastic]\n")
+        .expect("section");
+    let end = history.find("\n[default_shape]\n").expect("shape");
+    format!("{}{tread}{}", &history[..start], &history[end..])
 }
 
 /// The error of parsing `text`, as a message.
@@ -259,12 +270,7 @@ fn a_sweep_case_without_a_speed_or_above_absolute_zero_is_that_case_s_error() {
 
 #[test]
 fn an_elastic_history_refusal_names_the_file() {
-    let history = fixture("history_three_spheres.toml");
-    let start = history
-        .find("\n[material.viscoelastic]\n")
-        .expect("section");
-    let end = history.find("\n[default_shape]\n").expect("shape");
-    let elastic = format!("{}{}", &history[..start], &history[end..]);
+    let elastic = history_with_tread("");
     let scenario = Scenario::parse(&elastic, ORIGIN).expect("parses");
     let err = scenario
         .run(&RunOptions::new(env!("CARGO_MANIFEST_DIR")))
@@ -380,6 +386,48 @@ fn a_storage_modulus_falling_with_frequency_is_refused_and_a_dip_is_warned_of() 
         "{}",
         dips[0]
     );
+}
+
+/// A static load history on a tread fitted to a master curve whose
+/// storage modulus dips (by 5 %) says so as a rolling run does; the dip was
+/// warned of only in rolling runs.
+#[test]
+fn a_load_history_on_a_dipping_master_curve_is_warned_of() {
+    let fitted = history_with_tread("\n[material.viscoelastic]\nmaster_curve = \"mc.csv\"\n");
+    let scenario = Scenario::parse(&fitted, ORIGIN).expect("parses");
+    let dir = with_curve(
+        "history_dip",
+        "f,E1,E2\n1,2e6,1e5\n10,1.9e6,3e5\n100,4e6,1e6\n",
+    );
+    let dipped = scenario.run(&RunOptions::new(&dir));
+    let even = with_curve(
+        "history_even",
+        "f,E1,E2\n1,2e6,1e5\n10,2.5e6,3e5\n100,4e6,1e6\n",
+    );
+    let rising = scenario.run(&RunOptions::new(&even));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_dir_all(&even).ok();
+    let warnings = |run: Result<ScenarioResult, ScenarioError>| match run.expect("runs") {
+        ScenarioResult::History(r) => {
+            assert!(
+                r.failure.is_none() && !r.steps.is_empty(),
+                "{:?}",
+                r.failure
+            );
+            r.warnings
+        }
+        _ => panic!("not a history"),
+    };
+    let dips = warnings(dipped);
+    assert_eq!(dips.len(), 1, "{dips:?}");
+    assert!(
+        dips[0].contains("master curve mc.csv")
+            && dips[0].contains("falls from 2e6 Pa at 1 Hz to 1.9e6 Pa at 10 Hz (5% lower)"),
+        "{}",
+        dips[0]
+    );
+    // A storage modulus that rises is nothing to say.
+    assert_eq!(warnings(rising), Vec::<String>::new());
 }
 
 /// Regression (adversarial run): E' = E'' = 1e-3 Pa and 1e300 Pa both

@@ -242,6 +242,10 @@ pub struct HistoryResult {
     pub steps: Vec<HistoryStep>,
     /// Why the run stopped before the history's end.
     pub failure: Option<String>,
+    /// What the run should say of its input (a master curve whose storage
+    /// modulus dips with frequency); [`run_load_history_scenario`] leaves
+    /// it empty, the caller that fitted the tread fills it.
+    pub warnings: Vec<String>,
 }
 
 /// Runs the scenario's `[static.history]` on its `[[asperity]]` list with
@@ -318,6 +322,7 @@ pub fn run_load_history_scenario(
         ids: scenario.ids(),
         steps,
         failure,
+        warnings: Vec::new(),
     })
 }
 

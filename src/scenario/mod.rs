@@ -277,10 +277,12 @@ impl Scenario {
             .is_some_and(|s| s.history.is_some())
         {
             // An elastic `[material]` has no history: refused by name.
-            let tread = self
-                .viscoelastic_material(&options.base_dir)?
+            let (tread, note) = self
+                .viscoelastic_material_noted(&options.base_dir)?
                 .ok_or_else(|| history::elastic_refusal(self))?;
-            return run_load_history_scenario(self, Some(&tread)).map(ScenarioResult::History);
+            let mut result = run_load_history_scenario(self, Some(&tread))?;
+            result.warnings.extend(note);
+            return Ok(ScenarioResult::History(result));
         }
         run_static(self).map(ScenarioResult::Static)
     }

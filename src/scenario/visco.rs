@@ -346,7 +346,7 @@ impl ViscoSpec {
 
     /// [`Self::series`], and what a run should say of its master curve
     /// (`visco_curve::fit`).
-    fn fitted(
+    pub(super) fn fitted(
         &self,
         poisson_ratio: f64,
         base_dir: &Path,
@@ -509,20 +509,14 @@ impl Scenario {
     /// # Errors
     /// As [`ViscoSpec::series`] and [`ViscoSpec::at`].
     pub fn viscoelastic_material(&self, base_dir: &Path) -> Result<Option<Prony>, ScenarioError> {
-        let Some(spec) = &self.material.viscoelastic else {
-            return Ok(None);
-        };
-        let series = spec
-            .series(self.material.poisson_ratio, base_dir)
-            .map_err(|e| self.located(e))?;
-        spec.at(&series, None)
-            .map(Some)
-            .map_err(|e| self.located(e))
+        Ok(self
+            .viscoelastic_material_noted(base_dir)?
+            .map(|(series, _)| series))
     }
 
     /// `error` starting with the scenario's origin (its file), as the errors
     /// of [`Scenario::parse`] do.
-    fn located(&self, error: ScenarioError) -> ScenarioError {
+    pub(super) fn located(&self, error: ScenarioError) -> ScenarioError {
         if self.origin.is_empty() {
             return error;
         }

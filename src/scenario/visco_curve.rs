@@ -7,9 +7,9 @@ use std::path::Path;
 
 use tyreroad_viscoelastic::{MasterCurve, Prony, STORAGE_NOISE, fit_prony};
 
-use super::ScenarioError;
 use super::ranges::MODULUS_RANGE;
 use super::visco::visco_error;
+use super::{Scenario, ScenarioError};
 
 /// The series fitted to the master curve `file` (relative to `base_dir`)
 /// with `per_decade` relaxation times per decade (3 if not given), and a
@@ -44,4 +44,27 @@ pub(super) fn fit(
             )
         });
     Ok((series, warning))
+}
+
+impl Scenario {
+    /// [`Self::viscoelastic_material`], with what a run should say of its
+    /// master curve (a storage modulus that dips with frequency, which the
+    /// fit smooths over; as a rolling run's road summary says it).
+    ///
+    /// # Errors
+    /// As [`Self::viscoelastic_material`].
+    pub fn viscoelastic_material_noted(
+        &self,
+        base_dir: &Path,
+    ) -> Result<Option<(Prony, Option<String>)>, ScenarioError> {
+        let Some(spec) = &self.material.viscoelastic else {
+            return Ok(None);
+        };
+        let (series, note) = spec
+            .fitted(self.material.poisson_ratio, base_dir)
+            .map_err(|e| self.located(e))?;
+        spec.at(&series, None)
+            .map(|series| Some((series, note)))
+            .map_err(|e| self.located(e))
+    }
 }

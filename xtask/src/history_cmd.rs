@@ -32,12 +32,19 @@ pub struct HistoryArgs {
 pub fn run(args: &HistoryArgs) -> Result<()> {
     let scenario = Scenario::from_path(&args.scenario)?;
     let base = args.scenario.parent().unwrap_or(std::path::Path::new("."));
-    let tread = match &args.viscoelastic {
-        Some(text) => Some(parse_prony(text, scenario.material()?.poisson_ratio())?),
-        None => scenario.viscoelastic_material(base)?,
+    let (tread, note) = match &args.viscoelastic {
+        Some(text) => (
+            Some(parse_prony(text, scenario.material()?.poisson_ratio())?),
+            None,
+        ),
+        None => match scenario.viscoelastic_material_noted(base)? {
+            Some((tread, note)) => (Some(tread), note),
+            None => (None, None),
+        },
     };
     // No tread at all: the library's named `[material]` refusal.
-    let result = run_load_history_scenario(&scenario, tread.as_ref())?;
+    let mut result = run_load_history_scenario(&scenario, tread.as_ref())?;
+    result.warnings.extend(note);
     report(&result, &args.out)
 }
 
@@ -62,6 +69,9 @@ pub fn report(result: &HistoryResult, out: &std::path::Path) -> Result<()> {
     }
     if let Some(failure) = &result.failure {
         say!("stopped early: {failure}");
+    }
+    for warning in &result.warnings {
+        say!("warning: {warning}");
     }
     let mut set = OutputSet::new(out)?;
     write_history_csv(result, &mut set)?;
