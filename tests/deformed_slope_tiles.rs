@@ -137,15 +137,13 @@ fn a_calibrated_run_sizes_its_tables_where_the_deformed_wilke_steps_fail() -> Te
             "{}",
             step.residual
         );
-        // Solved cold where the profile's run was warm: the same solution
-        // to the solver's tolerance.
+        // Solved after a failed attempt, from the same warm start as the
+        // profile's run: the same solution to the solver's tolerance.
         assert_eq!(
             step.contact_ids, yardstick.contact_ids,
             "step {}",
             step.index
         );
-        let gap = (step.approach - yardstick.approach).abs() / yardstick.approach;
-        assert!(gap < 1e-9, "step {}: {gap}", step.index);
         assert_beside(step, yardstick, 1e-9, false);
     }
     let calibrated = run("calibrated", "deformed")?;

@@ -37,10 +37,9 @@ pub fn run(args: &HistoryArgs) -> Result<()> {
             Some(parse_prony(text, scenario.material()?.poisson_ratio())?),
             None,
         ),
-        None => match scenario.viscoelastic_material_noted(base)? {
-            Some((tread, note)) => (Some(tread), note),
-            None => (None, None),
-        },
+        None => scenario
+            .viscoelastic_material_noted(base)?
+            .map_or((None, None), |(tread, note)| (Some(tread), note)),
     };
     // No tread at all: the library's named `[material]` refusal.
     let mut result = run_load_history_scenario(&scenario, tread.as_ref())?;
