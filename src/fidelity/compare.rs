@@ -521,10 +521,23 @@ pub fn compare_texture(
     })
 }
 
+/// One grid of [`bem_resolution`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResolutionRow {
+    /// Cell size `[dx, dy]` (m).
+    pub cell: [f64; 2],
+    /// Approach from the grid's highest point (m).
+    pub approach: f64,
+    /// Contact area (m²).
+    pub contact_area: f64,
+    /// Load on the wrong 10 mm block against the finest grid (fraction of
+    /// the load).
+    pub wrong_block: f64,
+}
+
 /// The BEM's own resolution convergence on `map` at `load`: the map as
-/// given, every second point (twice the cell), and bilinearly refined to
-/// half the cell. Per resolution: cell (m), approach (m), contact area (m²),
-/// and the load on the wrong 10 mm block against the finest.
+/// given, every second point (twice the cell each way), and bilinearly
+/// refined to half the cell each way. The cells need not be square.
 ///
 /// # Errors
 /// A BEM failure, or a map that cannot be filled.
@@ -532,11 +545,11 @@ pub fn bem_resolution(
     map: &HeightMap,
     material: &Material,
     load: f64,
-) -> Result<Vec<(f64, f64, f64, f64)>, FidelityError> {
+) -> Result<Vec<ResolutionRow>, FidelityError> {
     let filled = map
         .filled()
         .map_err(crate::texture_road::TextureRoadError::from)?;
-    let (nx, ny, h) = (filled.nx(), filled.ny(), filled.dx());
+    let (nx, ny, dx, dy) = (filled.nx(), filled.ny(), filled.dx(), filled.dy());
     let z = |i: usize, j: usize| filled.heights()[filled.index(i.min(nx - 1), j.min(ny - 1))];
     let coarse: Vec<f64> = (0..ny.div_ceil(2))
         .flat_map(|j| (0..nx.div_ceil(2)).map(move |i| (2 * i, 2 * j)))
@@ -552,9 +565,9 @@ pub fn bem_resolution(
         })
         .collect();
     let cases = [
-        (nx.div_ceil(2), ny.div_ceil(2), 2.0 * h, coarse),
-        (nx, ny, h, filled.heights().to_vec()),
-        (2 * nx - 1, 2 * ny - 1, 0.5 * h, fine),
+        (nx.div_ceil(2), ny.div_ceil(2), [2.0 * dx, 2.0 * dy], coarse),
+        (nx, ny, [dx, dy], filled.heights().to_vec()),
+        (2 * nx - 1, 2 * ny - 1, [0.5 * dx, 0.5 * dy], fine),
     ];
     let mut solved = Vec::new();
     for (cx, cy, cell, heights) in cases {
@@ -562,7 +575,7 @@ pub fn bem_resolution(
             context: "BEM resolution study",
             source,
         };
-        let grid = Grid::new(cx, cy, cell, cell)
+        let grid = Grid::new(cx, cy, cell[0], cell[1])
             .map_err(|e| FidelityError::invalid("BEM grid", e, "a valid grid"))?;
         let surface = bem::HeightMap::new(grid.clone(), heights)
             .map_err(|e| FidelityError::invalid("BEM surface", e, "a valid field"))?;
@@ -574,7 +587,8 @@ pub fn bem_resolution(
         let mut blocks = vec![0.0; bx * by];
         for (c, p) in sol.pressure.iter().enumerate() {
             let (i, j) = (c % cx, c / cx);
-            let b = block_of(i as f64 * cell, j as f64 * cell, BLOCKS[0], bx).min(bx * by - 1);
+            let b =
+                block_of(i as f64 * cell[0], j as f64 * cell[1], BLOCKS[0], bx).min(bx * by - 1);
             blocks[b] += p * grid.cell_area();
         }
         solved.push((cell, sol.approach, sol.contact_area, blocks));
@@ -582,6 +596,11 @@ pub fn bem_resolution(
     let finest = solved.last().map(|s| s.3.clone()).unwrap_or_default();
     Ok(solved
         .into_iter()
-        .map(|(cell, d, a, b)| (cell, d, a, wrong_load(&b, &finest, load)))
+        .map(|(cell, approach, contact_area, b)| ResolutionRow {
+            cell,
+            approach,
+            contact_area,
+            wrong_block: wrong_load(&b, &finest, load),
+        })
         .collect())
 }

@@ -69,7 +69,7 @@ pub use spec::{
 };
 pub use statics::{
     LoadRun, StaticResult, StaticRow, StaticSolve, loads, run_static, run_static_problem,
-    run_static_problem_with,
+    run_static_problem_with, static_loads,
 };
 pub use texture::{CalibrationSummary, TextureLoad, TextureResult, TextureSummary};
 pub use tyreroad_multipoint::Par;

@@ -84,7 +84,10 @@ impl StaticResult {
 }
 
 /// The `[static]` loads of a scenario (N), checked to be non-empty.
-pub(crate) fn static_loads(scenario: &Scenario) -> Result<Vec<f64>, ScenarioError> {
+///
+/// # Errors
+/// No `[static]` section, or no load in it.
+pub fn static_loads(scenario: &Scenario) -> Result<Vec<f64>, ScenarioError> {
     let Some(spec) = &scenario.static_case else {
         return Err(ScenarioError::Invalid(format!(
             "scenario {}: no [static] section to solve",

@@ -21,7 +21,9 @@ pub struct ValidateArgs {
     /// Output directory.
     #[arg(long, default_value = "validation")]
     pub out: PathBuf,
-    /// Another static scenario to validate instead of the embedded paper case.
+    /// Another static scenario to validate instead of the embedded paper
+    /// case; with `--textures`, a scenario whose `[texture]` (your road) is
+    /// compared with the BEM at its `[static]` loads.
     #[arg(long)]
     pub scenario: Option<PathBuf>,
     /// The texture validation's options (`--textures`).
@@ -38,7 +40,7 @@ struct Check {
 /// Runs the validation; fails if any check fails.
 pub fn run(args: &ValidateArgs) -> Result<()> {
     if args.textures.textures {
-        return crate::validate_textures::run(&args.textures, &args.out);
+        return crate::validate_textures::run(&args.textures, args.scenario.as_deref(), &args.out);
     }
     let (text, origin) = match &args.scenario {
         Some(p) => (
@@ -51,6 +53,13 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
         ),
     };
     let scenario = Scenario::parse(&text, &origin)?;
+    if scenario.texture.is_some() {
+        bail!(
+            "{origin}: a scenario with a [texture] is compared with the BEM by \
+             `cargo xtask validate --textures --scenario {origin}` (every fidelity rung at its \
+             [static] loads); `validate --scenario` alone checks a scenario of [[asperity]] shapes"
+        );
+    }
     say!("== {} — {}", scenario.name, scenario.description);
     let statics = run_static(&scenario)?;
     if let Some((load, why)) = statics.failed_loads.first() {

@@ -5,7 +5,10 @@
 //!
 //! The road kinds are data ([`KINDS`]): `[texture.synth]` text as a user
 //! writes it, read through the scenario library, so the harness builds the
-//! same surfaces as `cargo xtask run`.
+//! same surfaces as `cargo xtask run`. With `--scenario ROAD.toml` the
+//! road is the user's own instead: its `[texture]` (a measured file or a
+//! synthesis), its `[texture]` segmentation, its material and its
+//! `[static]` loads.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -83,10 +86,15 @@ pub struct TextureArgs {
     #[arg(long)]
     pub textures: bool,
     /// With `--textures`: cells per side of each texture (0.1 mm cells).
-    #[arg(long, default_value_t = 400, requires = "textures")]
+    #[arg(
+        long,
+        default_value_t = 400,
+        requires = "textures",
+        conflicts_with = "scenario"
+    )]
     pub texture_cells: usize,
     /// With `--textures`: only this road (its label, e.g. "chip seal").
-    #[arg(long, requires = "textures")]
+    #[arg(long, requires = "textures", conflicts_with = "scenario")]
     pub kind: Option<String>,
     /// With `--textures`: skip the BEM resolution study.
     #[arg(long, requires = "textures")]
@@ -119,22 +127,25 @@ pub struct TextureArgs {
     pub max_cap_width: Option<f64>,
 }
 
-/// Runs the texture validation; fails only if a case cannot be run at all
-/// (a rung's failed load is a row that says so).
-pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
-    let cells = args.texture_cells;
-    if !(16..=2000).contains(&cells) {
-        bail!("--texture-cells {cells}: expected 16 to 2000");
-    }
-    let spacing_mm = 0.1;
-    let kinds: Vec<_> = KINDS
-        .iter()
-        .filter(|(label, _)| args.kind.as_deref().is_none_or(|k| k == *label))
-        .collect();
-    if kinds.is_empty() {
-        let known: Vec<&str> = KINDS.iter().map(|k| k.0).collect();
-        bail!("unknown --kind (known: {})", known.join(", "));
-    }
+/// One road of the validation: its map, material and what to compare.
+struct Road {
+    label: String,
+    map: tyreroad::texture::HeightMap,
+    material: tyreroad::contact_law::Material,
+    options: CompareOptions,
+    /// Whether the BEM's resolution study runs on this road.
+    resolution: bool,
+}
+
+/// The most points a road of `--scenario` may have: the BEM's resolution
+/// study solves it again refined to half the cell (four times the points),
+/// and the largest `--texture-cells` road (2000 × 2000) has as many.
+const MAX_SCENARIO_POINTS: usize = 4_000_000;
+
+/// Runs the texture validation on the seven kinds, or on the road of
+/// `scenario`; fails only if a case cannot be run at all (a rung's failed
+/// load is a row that says so).
+pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()> {
     let rungs: Vec<Fidelity> = if args.rungs.is_empty() {
         RUNGS.to_vec()
     } else {
@@ -144,90 +155,105 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
             .collect::<Result<_, _>>()
             .context("--rungs")?
     };
-    let mut road = tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6);
-    if let Some(mm) = args.max_cap_width {
-        if !(mm.is_finite() && mm > 0.0) {
-            bail!("--max-cap-width {mm}: expected a width > 0 in mm");
-        }
-        road.max_cap_width = Some(1e-3 * mm);
-    }
-    let options = CompareOptions {
-        loads: LOADS.to_vec(),
-        road,
-        calibration: CalibrationOptions::default(),
-        rungs: rungs.clone(),
-        solver: SolverOptions::default(),
-        neighbour_passes: args.neighbour_passes,
-    };
-    let mut results = Vec::new();
-    let mut report = String::new();
-    if let Some(mm) = args.max_cap_width {
-        writeln!(
-            report,
-            "Wide flat tops split into tiles of at most {mm} mm (`[texture] max_cap_width`)."
-        )?;
-        say!("{report}");
-    }
+    let max_cap_width = args
+        .max_cap_width
+        .map(|mm| {
+            if mm.is_finite() && mm > 0.0 {
+                Ok(1e-3 * mm)
+            } else {
+                Err(anyhow::anyhow!(
+                    "--max-cap-width {mm}: expected a width > 0 in mm"
+                ))
+            }
+        })
+        .transpose()?;
     let segmentation_rung: Fidelity = args
         .segmentation_rung
         .trim()
         .parse()
         .context("--segmentation-rung")?;
+    let base = CompareOptions {
+        loads: LOADS.to_vec(),
+        road: tyreroad::texture_road::TextureRoadOptions::new(0.2e-3, 2e-6),
+        calibration: CalibrationOptions::default(),
+        rungs: rungs.clone(),
+        solver: SolverOptions::default(),
+        neighbour_passes: args.neighbour_passes,
+    };
+    let roads = match scenario {
+        Some(path) => vec![scenario_road(
+            path,
+            &base,
+            max_cap_width,
+            !args.no_resolution,
+        )?],
+        None => kind_roads(args, &base, max_cap_width)?,
+    };
+    let grid = grid_label(&roads[0].map);
+    let mut results = Vec::new();
+    let mut report = String::new();
+    if let Some(w) = roads[0].options.road.max_cap_width {
+        writeln!(
+            report,
+            "Wide flat tops split into tiles of at most {} mm (`[texture] max_cap_width`).",
+            w * 1e3
+        )?;
+        say!("{report}");
+    }
     let segmentation_header = segmentation_header(segmentation_rung);
     let mut segmentation = String::new();
     if args.segmentation {
         say!("\n{segmentation_header}");
     }
-    for (label, body) in kinds {
-        let s = scenario(label, body, cells, spacing_mm)?;
-        let map = s
-            .texture
-            .as_ref()
-            .context("scenario without [texture]")?
-            .height_map(std::path::Path::new("."))?;
-        let material = s.material()?;
+    for road in &roads {
+        let label = road.label.as_str();
         eprintln!("validate --textures: {label} ...");
         let t = Instant::now();
-        let c = compare_texture(&map, material, &options)
-            .with_context(|| format!("road kind `{label}`"))?;
+        let c = compare_texture(&road.map, road.material, &road.options)
+            .with_context(|| format!("road `{label}`"))?;
         eprintln!(
             "  {} asperities, {:.1} s",
             c.asperities,
             t.elapsed().as_secs_f64()
         );
-        if *label == RESOLUTION_KIND && !args.no_resolution {
-            let rows = bem_resolution(&map, &material, LOADS[1])?;
-            writeln!(report, "\nBEM resolution, {label}, {} N:\n", LOADS[1])?;
+        if road.resolution {
+            let loads = &road.options.loads;
+            let load = loads[loads.len() / 2];
+            let rows = bem_resolution(&road.map, &road.material, load)?;
+            writeln!(report, "\nBEM resolution, {label}, {load} N:\n")?;
             writeln!(
                 report,
                 "| cell (mm) | approach (µm) | contact area (mm²) | wrong 10 mm block vs finest |"
             )?;
             writeln!(report, "|---|---|---|---|")?;
-            for (cell, d, a, w) in rows {
+            for r in rows {
                 writeln!(
                     report,
-                    "| {:.2} | {:.1} | {:.2} | {:.2} % |",
-                    cell * 1e3,
-                    d * 1e6,
-                    a * 1e6,
-                    100.0 * w
+                    "| {} | {:.1} | {:.2} | {:.2} % |",
+                    cell_label(r.cell),
+                    r.approach * 1e6,
+                    r.contact_area * 1e6,
+                    100.0 * r.wrong_block
                 )?;
             }
         }
         // Each road's rows as soon as they exist: a long run that is cut
         // short still leaves its finished roads on the terminal.
-        say_part!(
-            "{}",
-            tables(&[(label, c.clone())], &rungs, cells, spacing_mm)?
-        );
+        say_part!("{}", tables(&[(label, c.clone())], &rungs, &grid)?);
         if args.segmentation {
-            let rows = segmentation_rows(label, &map, material, &options, segmentation_rung)?;
+            let rows = segmentation_rows(
+                label,
+                &road.map,
+                road.material,
+                &road.options,
+                segmentation_rung,
+            )?;
             say_part!("{rows}");
             segmentation.push_str(&rows);
         }
-        results.push((*label, c));
+        results.push((label, c));
     }
-    report.push_str(&tables(&results, &rungs, cells, spacing_mm)?);
+    report.push_str(&tables(&results, &rungs, &grid)?);
     if args.segmentation {
         writeln!(report, "\n{segmentation_header}")?;
         report.push_str(&segmentation);
@@ -238,6 +264,124 @@ pub fn run(args: &TextureArgs, out: &Path) -> Result<()> {
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);
     Ok(())
+}
+
+/// The seven kinds (or the one `--kind` names) on `--texture-cells` cells.
+fn kind_roads(
+    args: &TextureArgs,
+    base: &CompareOptions,
+    max_cap_width: Option<f64>,
+) -> Result<Vec<Road>> {
+    let cells = args.texture_cells;
+    if !(16..=2000).contains(&cells) {
+        bail!("--texture-cells {cells}: expected 16 to 2000");
+    }
+    let kinds: Vec<_> = KINDS
+        .iter()
+        .filter(|(label, _)| args.kind.as_deref().is_none_or(|k| k == *label))
+        .collect();
+    if kinds.is_empty() {
+        let known: Vec<&str> = KINDS.iter().map(|k| k.0).collect();
+        bail!("unknown --kind (known: {})", known.join(", "));
+    }
+    let mut options = base.clone();
+    options.road.max_cap_width = max_cap_width;
+    kinds
+        .into_iter()
+        .map(|(label, body)| {
+            let s = scenario(label, body, cells, 0.1)?;
+            Ok(Road {
+                label: (*label).to_string(),
+                map: s
+                    .texture
+                    .as_ref()
+                    .context("scenario without [texture]")?
+                    .height_map(Path::new("."))?,
+                material: s.material()?,
+                options: options.clone(),
+                resolution: *label == RESOLUTION_KIND && !args.no_resolution,
+            })
+        })
+        .collect()
+}
+
+/// The road of a user's scenario: its `[texture]` (a file read relative to
+/// the scenario's folder, or a synthesis) and segmentation, its material,
+/// its `[static]` loads in increasing order (the BEM warm-starts each load
+/// from the last).
+fn scenario_road(
+    path: &Path,
+    base: &CompareOptions,
+    max_cap_width: Option<f64>,
+    resolution: bool,
+) -> Result<Road> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let s = Scenario::parse(&text, &path.display().to_string())?;
+    let Some(texture) = &s.texture else {
+        bail!(
+            "{}: `validate --textures --scenario` compares the model with the BEM on a \
+             scenario's [texture]; this scenario has none (a scenario of [[asperity]] \
+             shapes is checked by `validate --scenario` alone)",
+            path.display()
+        );
+    };
+    let mut loads = tyreroad::scenario::static_loads(&s).with_context(|| {
+        format!(
+            "{}: the comparison is solved at the scenario's [static] loads",
+            path.display()
+        )
+    })?;
+    loads.sort_by(f64::total_cmp);
+    loads.dedup();
+    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let map = texture.height_map(base_dir)?;
+    let points = map.nx() * map.ny();
+    if points > MAX_SCENARIO_POINTS {
+        bail!(
+            "{}: the road's map is {} × {} points, more than the {MAX_SCENARIO_POINTS} the \
+             full BEM of this comparison takes: cut a window of the texture into a file of \
+             its own (`cargo xtask texture`)",
+            path.display(),
+            map.nx(),
+            map.ny()
+        );
+    }
+    let mut road = texture.road_options();
+    if max_cap_width.is_some() {
+        road.max_cap_width = max_cap_width;
+    }
+    Ok(Road {
+        label: s.name.clone(),
+        material: s.material()?,
+        map,
+        options: CompareOptions {
+            loads,
+            road,
+            ..base.clone()
+        },
+        resolution,
+    })
+}
+
+/// "40 × 40 mm at 0.1 mm": a map's extent and cell.
+fn grid_label(map: &tyreroad::texture::HeightMap) -> String {
+    format!(
+        "{:.0} × {:.0} mm at {} mm",
+        map.nx() as f64 * map.dx() * 1e3,
+        map.ny() as f64 * map.dy() * 1e3,
+        cell_label([map.dx(), map.dy()])
+    )
+}
+
+/// A cell in mm: "0.1", or "0.1 × 0.5" when it is not square.
+fn cell_label(cell: [f64; 2]) -> String {
+    let mm = |v: f64| format!("{}", (v * 1e7).round() / 1e4);
+    if (cell[0] - cell[1]).abs() <= 1e-12 * cell[0].max(cell[1]) {
+        mm(cell[0])
+    } else {
+        format!("{} × {}", mm(cell[0]), mm(cell[1]))
+    }
 }
 
 fn segmentation_header(rung: Fidelity) -> String {
@@ -301,18 +445,12 @@ fn segmentation_rows(
     Ok(out)
 }
 
-fn tables(
-    results: &[(&str, TextureComparison)],
-    rungs: &[Fidelity],
-    cells: usize,
-    spacing_mm: f64,
-) -> Result<String> {
+fn tables(results: &[(&str, TextureComparison)], rungs: &[Fidelity], grid: &str) -> Result<String> {
     let mut out = String::new();
-    let side = cells as f64 * spacing_mm;
     for rung in rungs {
         writeln!(
             out,
-            "\nRung `{rung}` ({side:.0} × {side:.0} mm at {spacing_mm} mm; targets: approach {}, \
+            "\nRung `{rung}` ({grid}; targets: approach {}, \
              area {}, 10 mm block {}, 5 mm block {}, ≥ {COST_TARGET:.0}× cheaper):\n",
             pct(TARGETS[0]),
             pct(TARGETS[1]),
