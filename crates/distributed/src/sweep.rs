@@ -47,12 +47,16 @@ impl SweepRun {
     /// The run's scenario, parsed and checked.
     ///
     /// # Errors
-    /// The scenario with these values is invalid (the message names the run).
+    /// The scenario with these values is invalid: the scenario's own error,
+    /// its origin said as "the base scenario with this run's values" (the
+    /// run's number is its row's, which the caller prints beside it).
     pub fn parse(&self) -> Result<Scenario, DistributedError> {
         let text = toml::to_string(&self.scenario)
             .map_err(|e| DistributedError::Sweep(format!("run {}: {e}", self.index)))?;
-        Scenario::parse(&text, &format!("sweep run {}", self.index))
-            .map_err(|e| DistributedError::Sweep(e.to_string()))
+        Ok(Scenario::parse(
+            &text,
+            "the base scenario with this run's values",
+        )?)
     }
 }
 
@@ -550,6 +554,27 @@ mod tests {
         let sweep = Sweep::parse(&wrong, "t", &fixtures()).unwrap();
         assert!(sweep.runs[0].parse().is_err());
         assert!(sweep.runs[1].parse().is_ok());
+    }
+
+    /// Regression (stops 44–45 noted it): a run's bad value read "sweep
+    /// `sweep run 0: [rolling.control] load` = …", after the row's own
+    /// "run 0:". The run's error is the scenario's, said once, its origin
+    /// the base scenario with the run's values.
+    #[test]
+    fn a_run_s_bad_value_is_said_once_without_repeating_the_sweep() {
+        let text = r#"
+            scenario = "rolling_small.toml"
+            [parameters]
+            load = ["1e30 N"]
+        "#;
+        let sweep = Sweep::parse(text, "t", &fixtures()).unwrap();
+        let err = sweep.runs[0].parse().unwrap_err().to_string();
+        assert!(
+            err.contains("the base scenario with this run's values: [rolling.control] load")
+                && err.contains("1e30 N")
+                && !err.contains("sweep"),
+            "{err}"
+        );
     }
 
     /// Rows survive the wire bit for bit, and the table has one line per
