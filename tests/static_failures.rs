@@ -268,3 +268,49 @@ fn a_rolling_road_of_needle_cones_is_warned_of() -> Result<(), Box<dyn std::erro
     }
     Ok(())
 }
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30):
+/// `loads = ["50 N", "50 N"]` on a texture failed the whole run with
+/// "two-scale pressure map at 50 N: 4 positions but 8 forces", the rows of
+/// both copies taken as one load's. Each listed load is its own run and
+/// pressure map, carrying its load; a copy is the same contact.
+#[test]
+fn a_texture_load_listed_twice_is_solved_and_mapped_twice() -> Result<(), Box<dyn std::error::Error>>
+{
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let text = "name = \"twice\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\n\
+                poisson_ratio = 0.5\n[static]\nloads = [\"20 N\", \"5 N\", \"20 N\"]\n\
+                [texture]\nfile = \"texture/spheres.x3p\"\nmin_prominence = \"0.2 mm\"\n\
+                min_area = \"1 mm2\"\n";
+    let scenario = Scenario::parse(text, "twice")?;
+    let ScenarioResult::Texture(result) = scenario.run(&RunOptions::new(&fixtures))? else {
+        return Err("not a texture run".into());
+    };
+    let loads: Vec<f64> = result.statics.runs.iter().map(|r| r.load).collect();
+    assert_eq!(loads, [20.0, 5.0, 20.0]);
+    assert_eq!(result.loads.len(), 3);
+    let n = result.texture.asperities;
+    assert!(n >= 2, "{n} asperities");
+    for (k, load) in result.loads.iter().enumerate() {
+        assert_eq!(result.statics.rows_of_run(k).len(), n);
+        let carried: f64 = load.two_scale.local.iter().map(|l| l.force).sum();
+        assert!(
+            (carried - load.load).abs() < 1e-6 * load.load,
+            "run {k}: {carried} N for {} N",
+            load.load
+        );
+    }
+    let forces = |k: usize| -> Vec<f64> {
+        result
+            .statics
+            .rows_of_run(k)
+            .iter()
+            .map(|r| r.force)
+            .collect()
+    };
+    for (a, b) in forces(0).iter().zip(&forces(2)) {
+        assert!((a - b).abs() <= 1e-6 * 20.0, "{a} vs {b}");
+    }
+    Ok(())
+}

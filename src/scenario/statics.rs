@@ -77,9 +77,23 @@ impl StaticResult {
         loads(&self.rows)
     }
 
-    /// The rows at `load`, in asperity order.
+    /// The rows at `load`, in asperity order: of the first run at it, when
+    /// `[static] loads` lists it more than once (each is solved and
+    /// reported; a second copy is the same contact).
     pub fn at_load(&self, load: f64) -> Vec<&StaticRow> {
-        self.rows.iter().filter(|r| r.load == load).collect()
+        self.runs
+            .iter()
+            .position(|r| r.load == load)
+            .map_or_else(Vec::new, |k| self.rows_of_run(k).iter().collect())
+    }
+
+    /// The rows of `runs[k]`, in asperity order (every solved load has one
+    /// row per asperity, in the order of `runs`); empty past the last run.
+    pub fn rows_of_run(&self, k: usize) -> &[StaticRow] {
+        let per_run = self.rows.len().checked_div(self.runs.len()).unwrap_or(0);
+        self.rows
+            .get(k * per_run..(k + 1) * per_run)
+            .unwrap_or_default()
     }
 }
 

@@ -452,12 +452,8 @@ pub(crate) fn run_texture_static(
         run.approach += plane_shift;
     }
     let mut per_load = Vec::with_capacity(statics.runs.len());
-    for (r, depths) in statics.runs.iter().zip(&solved.depths) {
-        let forces: Vec<f64> = statics
-            .at_load(r.load)
-            .iter()
-            .map(|row| row.force)
-            .collect();
+    for (k, (r, depths)) in statics.runs.iter().zip(&solved.depths).enumerate() {
+        let forces: Vec<f64> = statics.rows_of_run(k).iter().map(|row| row.force).collect();
         let as_scenario_error = |source| ScenarioError::TwoScale {
             context: format!("two-scale pressure map at {} N", r.load),
             source,

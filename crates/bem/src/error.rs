@@ -5,7 +5,8 @@
 /// User input never panics: a bad grid, height map, material, option or
 /// control value is reported as [`BemError::InvalidInput`] with a message
 /// naming the offending quantity; a solve that does not reach the requested
-/// tolerance is reported as [`BemError::NotConverged`].
+/// tolerance is reported as [`BemError::NotConverged`], and one that ends on
+/// numbers no contact has as [`BemError::NotPhysical`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum BemError {
@@ -25,6 +26,12 @@ pub enum BemError {
         /// Tolerance that was asked for.
         tolerance: f64,
     },
+    /// The solve ended on a result that is no contact: a force, approach
+    /// or pressure that is not finite, a negative pressure, or a force
+    /// other than the load imposed (inputs past what floating point holds:
+    /// a load of 1e300 N, cells of 1e-300 m).
+    #[error("the BEM solve ended on no contact: {0}")]
+    NotPhysical(String),
     /// The FFT library reported an error (a bug: buffer sizes are fixed at
     /// construction).
     #[error("FFT failure: {0}")]

@@ -386,6 +386,7 @@ impl Solver {
         run_at(self.options.par, || {
             self.run_at_par(surface, control, guess)
         })
+        .and_then(|s| physical(s, control))
     }
 
     fn run_at_par(
@@ -686,6 +687,37 @@ fn initial_from_interference(p: &mut [f64], g0: &[f64], d: f64, e_star: f64, cel
     let c = e_star / radius;
     for (pi, g) in p.iter_mut().zip(g0) {
         *pi = c * (d - g).max(0.0);
+    }
+}
+
+/// `s`, or [`BemError::NotPhysical`] naming what no contact has: a value
+/// that is not finite, a negative pressure, or (load control) a force
+/// that is not the load to 1e-6 of it. The solver's own projection keeps
+/// every pressure ≥ 0 and its load step rescales them to the load, so only
+/// arithmetic past floating point's range gets here.
+fn physical(s: BemSolution, control: Control) -> Result<BemSolution, BemError> {
+    let what = if !s.force.is_finite() || !s.approach.is_finite() {
+        Some(format!("force {} N, approach {} m", s.force, s.approach))
+    } else if let Some((c, p)) = s
+        .pressure
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !(p.is_finite() && **p >= 0.0))
+    {
+        Some(format!("pressure {p} Pa at cell {c}"))
+    } else if let Control::Load(w) = control
+        && (s.force - w).abs() > 1e-6 * w
+    {
+        Some(format!(
+            "force {} N under an imposed load of {w} N",
+            s.force
+        ))
+    } else {
+        None
+    };
+    match what {
+        Some(what) => Err(BemError::NotPhysical(what)),
+        None => Ok(s),
     }
 }
 

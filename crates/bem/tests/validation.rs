@@ -626,3 +626,34 @@ fn random_rough_surfaces_satisfy_the_contact_conditions() {
         );
     }
 }
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30): a load
+/// of 1e300 N came back as a contact carrying 0 N, an approach of 1e300 m
+/// as an infinite force, cells of 1e-300 m with pressures of −6e297 Pa, all
+/// without an error. A result no contact has is `NotPhysical` (or, past the
+/// iteration's reach, `NotConverged`), never a solution; the same paraboloid
+/// at a load it holds still solves, carrying its load.
+#[test]
+fn a_result_no_contact_has_is_an_error_not_a_solution() {
+    let material = Material::new(6.54e6, 0.5).unwrap();
+    let paraboloid = |dx: f64| {
+        let grid = Grid::new(48, 32, dx, dx)
+            .unwrap()
+            .with_origin([-23.5 * dx, -15.5 * dx])
+            .unwrap();
+        HeightMap::from_fn(grid, |x, y| -(x * x + y * y) / 1e-2).unwrap()
+    };
+    let o = BemOptions::default();
+    for (dx, control) in [
+        (4e-5, Control::Load(1e300)),
+        (4e-5, Control::Approach(1e300)),
+        (1e-300, Control::Load(1.0)),
+    ] {
+        match solve(&paraboloid(dx), &material, control, &o) {
+            Err(BemError::NotPhysical(_) | BemError::NotConverged { .. }) => {}
+            other => panic!("dx {dx}, {control:?}: {other:?}"),
+        }
+    }
+    let s = solve(&paraboloid(4e-5), &material, Control::Load(1.0), &o).unwrap();
+    assert!(rel(s.force, 1.0) < 1e-9, "{}", s.force);
+}

@@ -194,4 +194,12 @@ pub enum SolveError {
         /// relative to the force scale.
         residual: f64,
     },
+    /// The solve ended on numbers that are not finite: a load or approach
+    /// past what the laws' powers hold in floating point (an approach of
+    /// 1e160 m gives an infinite force), never returned as converged.
+    #[error(
+        "the solution is not finite ({0}): the load or approach is past what the laws hold in \
+         floating point"
+    )]
+    NotFinite(String),
 }

@@ -405,3 +405,37 @@ fn overlapping_contacts_are_the_pairs_whose_radii_exceed_their_spacing() {
     assert!(brute.len() > 20, "{}", brute.len());
     assert_eq!(overlapping_contacts(&positions, &contacts), brute);
 }
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30): an
+/// approach of 1e160 m on one ball returned an infinite force marked
+/// converged with a residual of 0, and 1e300 m on three balls depths of
+/// −∞ and a NaN residual, still "converged". A solve that ends on numbers
+/// that are not finite is an error naming the first of them; an approach
+/// the law holds (10 µm, δ/R = 2e-3) still solves, to Hertz's force (the
+/// paper's c is 0.23 % stiffer).
+#[test]
+fn a_solution_that_is_not_finite_is_an_error_not_converged() {
+    let one = Problem::new(vec![[0.0, 0.0]], vec![0.0], vec![ball(5e-3)], rubber()).unwrap();
+    let options = SolverOptions::default();
+    let err = solve(&one, Control::Approach(1e160), &options).unwrap_err();
+    assert!(
+        matches!(&err, SolveError::NotFinite(what) if what.starts_with("force 0 = inf")),
+        "{err}"
+    );
+    let three = Problem::new(
+        vec![[0.0, 0.0], [0.01, 0.0], [0.0, 0.01]],
+        vec![0.0; 3],
+        vec![ball(5e-3); 3],
+        rubber(),
+    )
+    .unwrap();
+    let err = solve(&three, Control::Approach(1e300), &options).unwrap_err();
+    assert!(matches!(err, SolveError::NotFinite(_)), "{err}");
+    let s = solve(&one, Control::Approach(1e-5), &options).unwrap();
+    let hertz = 4.0 / 3.0 * rubber().reduced_modulus() * (5e-3f64).sqrt() * 1e-5f64.powf(1.5);
+    assert!(
+        rel(s.forces[0], hertz) < 0.005,
+        "{} vs {hertz}",
+        s.forces[0]
+    );
+}

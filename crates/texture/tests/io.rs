@@ -468,3 +468,28 @@ fn ambiguous_text_headers_and_single_point_xyz_are_refused() {
     assert!(err.contains("at least two grid points"), "{err}");
     assert!(xyz_from_str("0 0 1e-4\n1e-4 0 2e-4\n").is_ok());
 }
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30): a PNG
+/// height image was read as an ASCII grid ("malformed ASCII grid data: not
+/// UTF-8 text") while the bindings' docs promised images. An image is
+/// refused by name, saying which formats hold heights.
+#[test]
+fn an_image_file_is_refused_as_an_image_not_read_as_a_grid() {
+    let dir = std::env::temp_dir().join(format!("tyreroad-texture-image-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for ext in ["png", "TIF", "jpeg"] {
+        let path = dir.join(format!("road.{ext}"));
+        std::fs::write(&path, b"\x89PNG\r\n\x1a\n not a height map").unwrap();
+        match tyreroad_texture::read_any(&path) {
+            Err(e @ TextureError::Unsupported { .. }) => {
+                let message = e.to_string();
+                assert!(
+                    message.contains("image") && message.contains(".x3p"),
+                    "{message}"
+                );
+            }
+            other => panic!("{ext}: {other:?}"),
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

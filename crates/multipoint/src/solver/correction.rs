@@ -127,6 +127,7 @@ pub fn solve_corrected<L: ContactLaw + Sync>(
         &CoarseLevels::DEFAULT,
         &correction.pairs,
     )
+    .and_then(super::finite)
 }
 
 #[cfg(test)]

@@ -67,7 +67,8 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
     levels: &CoarseLevels,
 ) -> Result<Solution, SolveError> {
     let result = solve_attempts(problem, control, options, initial, levels, &[]);
-    let result = cluster::refine(problem, control, options, initial, levels, result);
+    let result =
+        cluster::refine(problem, control, options, initial, levels, result).and_then(finite);
     if std::env::var_os("TYREROAD_PROFILE").is_some() {
         match &result {
             Ok(s) => eprintln!(
@@ -78,6 +79,25 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
         }
     }
     result
+}
+
+/// `s`, or [`SolveError::NotFinite`] naming its first number that is not
+/// finite (a residual of NaN included).
+fn finite(s: Solution) -> Result<Solution, SolveError> {
+    let first = |name: &str, values: &[f64]| {
+        values
+            .iter()
+            .position(|v| !v.is_finite())
+            .map(|i| format!("{name} {i} = {}", values[i]))
+    };
+    let what = first("force", &s.forces)
+        .or_else(|| first("depth", &s.depths))
+        .or_else(|| (!s.approach.is_finite()).then(|| format!("approach = {}", s.approach)))
+        .or_else(|| s.residual.is_nan().then(|| "residual = NaN".to_string()));
+    match what {
+        Some(what) => Err(SolveError::NotFinite(what)),
+        None => Ok(s),
+    }
 }
 
 /// [`solve_with`] without the profile's summary line and the clusters, the

@@ -26,6 +26,17 @@ pub fn read_any(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
         "xyz" => text::read_xyz(path),
         "npy" => npy::read_npy_with_sidecar(path),
         "npz" => npy::read_npz(path),
+        // An image's grey levels carry no height scale or spacing: refused
+        // by name rather than read as a malformed ASCII grid.
+        "png" | "tif" | "tiff" | "jpg" | "jpeg" | "bmp" | "gif" => Err(TextureError::Unsupported {
+            format: "image",
+            message: format!(
+                "{}: a .{ext} image holds grey levels, not heights in metres with their \
+                 spacing; export the height map as .x3p, .sur, .asc, .xyz, .npy (with a \
+                 .spacing sidecar) or .npz",
+                path.display()
+            ),
+        }),
         _ => text::read_ascii_grid(path),
     }
 }
