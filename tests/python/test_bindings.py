@@ -35,6 +35,7 @@ def test_every_error_is_a_tyreroad_error():
     for name in [
         "InputError", "CoreError", "GeometryError", "LawError", "SolveError",
         "TextureError", "BemError", "FilmError", "RollingError", "ScenarioError",
+        "FidelityError",
     ]:
         assert issubclass(getattr(tr, name), tr.Error)
     assert issubclass(tr.Error, Exception)

@@ -67,6 +67,12 @@ create_exception!(
 );
 create_exception!(
     _tyreroad,
+    FidelityError,
+    Error,
+    "tyreroad.fidelity: calibrated laws and the ladder against the BEM."
+);
+create_exception!(
+    _tyreroad,
     ScenarioError,
     Error,
     "tyreroad.scenario: scenario files and runs."
@@ -98,6 +104,7 @@ maps_to!(
     tyreroad::film::FilmError => FilmError,
     tyreroad::rolling::RollingError => RollingError,
     tyreroad::scenario::ScenarioError => ScenarioError,
+    tyreroad::fidelity::FidelityError => FidelityError,
 );
 
 /// `result.map_err(IntoPyErr::into_py_err)`, shorter.
@@ -130,5 +137,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("FilmError", py.get_type::<FilmError>())?;
     m.add("RollingError", py.get_type::<RollingError>())?;
     m.add("ScenarioError", py.get_type::<ScenarioError>())?;
+    m.add("FidelityError", py.get_type::<FidelityError>())?;
     Ok(())
 }

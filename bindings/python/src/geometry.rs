@@ -106,6 +106,22 @@ fn with_constant<G: CapGeometry>(
     }
 }
 
+/// The depths of a 1-D float64 array, each a number or −∞ (out of
+/// contact): a NaN would otherwise read as out of contact, a zero force.
+fn checked_depths<'a>(view: &'a numpy::PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
+    let depths = slice(view)?;
+    if let Some((i, d)) = depths
+        .iter()
+        .enumerate()
+        .find(|(_, d)| d.is_nan() || **d == f64::INFINITY)
+    {
+        return Err(input_error(format!(
+            "depths[{i}] = {d}: a depth is a finite number of metres (−inf: out of contact)"
+        )));
+    }
+    Ok(depths)
+}
+
 /// Applies `f` to each depth of a 1-D float64 array.
 fn map_depths<'py>(
     py: Python<'py>,
@@ -113,7 +129,10 @@ fn map_depths<'py>(
     f: impl Fn(f64) -> f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let view = view1(depths, "depths")?;
-    Ok(to_numpy1(py, slice(&view)?.iter().map(|&d| f(d)).collect()))
+    Ok(to_numpy1(
+        py,
+        checked_depths(&view)?.iter().map(|&d| f(d)).collect(),
+    ))
 }
 
 #[pymethods]
@@ -184,6 +203,22 @@ impl Asperity {
             .chunks_exact(3)
             .map(|p| [p[0], p[1], p[2]])
             .collect();
+        // Integer arrays only: `astype` would truncate 0.9 to 0, parse
+        // strings and drop an imaginary part without a word.
+        let kind: Option<String> = faces
+            .getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .and_then(|k| k.extract())
+            .ok();
+        if let Some(kind) = kind.filter(|k| k != "i" && k != "u") {
+            let dtype = faces
+                .getattr("dtype")
+                .map(|d| d.to_string())
+                .unwrap_or(kind);
+            return Err(input_error(format!(
+                "faces: expected integer vertex indices, got dtype {dtype}"
+            )));
+        }
         let f: PyReadonlyArray2<'_, i64> = faces
             .call_method1("astype", ("int64",))
             .and_then(|a| a.extract())
@@ -228,7 +263,10 @@ impl Asperity {
         depths: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let view = view1(depths, "depths")?;
-        let m: Vec<CapMeasures> = slice(&view)?.iter().map(|&d| self.measures(d)).collect();
+        let m: Vec<CapMeasures> = checked_depths(&view)?
+            .iter()
+            .map(|&d| self.measures(d))
+            .collect();
         let out = PyDict::new(py);
         let column = |f: fn(&CapMeasures) -> f64| to_numpy1(py, m.iter().map(f).collect());
         out.set_item("volume", column(|c| c.volume))?;

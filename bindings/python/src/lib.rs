@@ -3,7 +3,8 @@
 //! Every layer of the model, NumPy arrays in and out, SI units and float64:
 //! geometry and laws ([`geometry`]), the multipoint solve ([`solve`]),
 //! textures ([`texture`]), the full-grid BEM ([`bem`]), film analysis
-//! ([`film`]) and scenario files with rolling ([`scenario`]).
+//! ([`film`]), scenario files with rolling ([`scenario`]) and the fidelity
+//! ladder against the BEM on a road of one's own ([`fidelity`]).
 //!
 //! Invariants kept across the boundary:
 //! - arrays come in as read-only NumPy views (`PyReadonlyArray`): a wrong
@@ -19,6 +20,7 @@
 mod arrays;
 mod bem;
 mod errors;
+mod fidelity;
 mod film;
 mod geometry;
 mod interrupt;
@@ -37,6 +39,7 @@ fn _tyreroad(m: &Bound<'_, PyModule>) -> PyResult<()> {
     texture::register(m)?;
     bem::register(m)?;
     film::register(m)?;
+    fidelity::register(m)?;
     scenario::register(m)?;
     Ok(())
 }

@@ -16,13 +16,29 @@ use tyreroad::scenario::{
 use crate::arrays::{to_numpy1, to_numpy2};
 use crate::errors::{OrRaise, input_error};
 
-/// A Python value (dict, list, str, int, float, bool) as TOML.
-fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
+/// How deep a scenario dict may nest: a scenario file is four levels deep
+/// at most; a dict that holds itself (or nests thousands deep) would
+/// otherwise recurse until the stack overflows.
+const MAX_SCENARIO_DEPTH: usize = 32;
+
+/// A Python value (dict, list, str, int, float, bool) as TOML, `depth`
+/// levels inside the scenario.
+fn to_toml(obj: &Bound<'_, PyAny>, key: &str, depth: usize) -> PyResult<toml::Value> {
+    if depth > MAX_SCENARIO_DEPTH {
+        return Err(input_error(format!(
+            "scenario {key}: nested more than {MAX_SCENARIO_DEPTH} levels deep (a dict or \
+             list that contains itself?)"
+        )));
+    }
     if obj.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(obj.extract()?));
     }
     if obj.is_instance_of::<PyInt>() {
-        return Ok(toml::Value::Integer(obj.extract()?));
+        return obj.extract().map(toml::Value::Integer).map_err(|_| {
+            input_error(format!(
+                "scenario {key}: {obj} does not fit a TOML integer (64-bit signed)"
+            ))
+        });
     }
     if obj.is_instance_of::<PyFloat>() {
         return Ok(toml::Value::Float(obj.extract()?));
@@ -36,7 +52,7 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
             let k: String = k
                 .extract()
                 .map_err(|_| input_error(format!("scenario {key}: keys must be strings")))?;
-            let value = to_toml(&v, &format!("{key}.{k}"))?;
+            let value = to_toml(&v, &format!("{key}.{k}"), depth + 1)?;
             table.insert(k, value);
         }
         return Ok(toml::Value::Table(table));
@@ -46,7 +62,7 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
         return items
             .iter()
             .enumerate()
-            .map(|(i, v)| to_toml(v, &format!("{key}[{i}]")))
+            .map(|(i, v)| to_toml(v, &format!("{key}[{i}]"), depth + 1))
             .collect::<PyResult<Vec<_>>>()
             .map(toml::Value::Array);
     }
@@ -59,7 +75,7 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
 /// The scenario and the directory its relative paths resolve against.
 fn load(scenario: &Bound<'_, PyAny>, base_dir: Option<PathBuf>) -> PyResult<(Scenario, PathBuf)> {
     if let Ok(dict) = scenario.cast::<PyDict>() {
-        let text = toml::to_string(&to_toml(dict.as_any(), "")?)
+        let text = toml::to_string(&to_toml(dict.as_any(), "", 0)?)
             .map_err(|e| input_error(format!("scenario: {e}")))?;
         let s = Scenario::parse(&text, "<dict>").or_raise()?;
         return Ok((s, base_dir.unwrap_or_else(|| PathBuf::from("."))));
@@ -232,8 +248,13 @@ fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyD
 /// Relative paths in it resolve against `base_dir` (default: the file's
 /// directory, or the working directory).
 ///
+/// A rolling scenario with `[rolling] checkpoint = true` checkpoints its
+/// steps into `checkpoint_dir` and resumes from it (the scenario's
+/// checkpoint is not written without it).
+///
 /// `progress(done, total)` is called after each rolling step (from a
-/// worker thread, holding the GIL); returning `False` stops the run, which
+/// worker thread, holding the GIL); returning `False` (or any false value
+/// but `None`: `np.False_`, 0) stops the run, which
 /// raises `ScenarioError` ("interrupted after k of n steps"). Ctrl-C stops a rolling run between steps
 /// (`KeyboardInterrupt`); a static run finishes first.
 ///
@@ -243,12 +264,13 @@ fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyD
 /// `sensor_forces` (sensors, steps), one-third-octave `band_centre` (Hz) and
 /// `band_level_db`, …).
 #[pyfunction]
-#[pyo3(signature = (scenario, base_dir=None, progress=None))]
+#[pyo3(signature = (scenario, base_dir=None, progress=None, checkpoint_dir=None))]
 fn run_scenario<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
     base_dir: Option<PathBuf>,
     progress: Option<Py<PyAny>>,
+    checkpoint_dir: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (scenario, base_dir) = load(scenario, base_dir)?;
     let callback_error: Mutex<Option<PyErr>> = Mutex::new(None);
@@ -260,25 +282,28 @@ fn run_scenario<'py>(
             let Some(cb) = &progress else {
                 return ControlFlow::Continue(());
             };
-            Python::attach(|py| match cb.call1(py, (p.done, p.total)) {
-                Ok(v)
-                    if v.bind(py).is_instance_of::<PyBool>()
-                        && !v.bind(py).is_truthy().unwrap_or(true) =>
-                {
-                    ControlFlow::Break(())
-                }
-                Ok(_) => ControlFlow::Continue(()),
-                Err(e) => {
-                    if let Ok(mut slot) = callback_error.lock() {
-                        slot.get_or_insert(e);
+            // `None` (no return statement) goes on; any other false value
+            // (`False`, NumPy's `np.False_`, 0) stops the run.
+            Python::attach(|py| {
+                let verdict = cb
+                    .call1(py, (p.done, p.total))
+                    .and_then(|v| Ok(v.is_none(py) || v.bind(py).is_truthy()?));
+                match verdict {
+                    Ok(true) => ControlFlow::Continue(()),
+                    Ok(false) => ControlFlow::Break(()),
+                    Err(e) => {
+                        if let Ok(mut slot) = callback_error.lock() {
+                            slot.get_or_insert(e);
+                        }
+                        ControlFlow::Break(())
                     }
-                    ControlFlow::Break(())
                 }
             })
         };
         let options = RunOptions {
             base_dir,
             progress: Some(&on_step),
+            checkpoint_dir: checkpoint_dir.clone(),
             ..RunOptions::default()
         };
         scenario.run(&options)

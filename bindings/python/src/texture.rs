@@ -31,7 +31,8 @@ fn map_out<'py>(py: Python<'py>, map: HeightMap) -> PyResult<(Bound<'py, PyAny>,
 }
 
 /// Reads a texture file of any format the Rust side reads (by extension:
-/// .asc, .csv, .x3p, .sur, .png, .tif, .npy…): returns
+/// .x3p, .sur, .asc, .xyz, .npy with its .spacing sidecar, .npz; an image
+/// file is refused: it holds no heights): returns
 /// `(heights (ny, nx) in m, dx, dy in m)`, NaN at missing points.
 #[pyfunction]
 fn read_texture<'py>(

@@ -18,6 +18,7 @@ class BemError(Error): ...
 class FilmError(Error): ...
 class RollingError(Error): ...
 class ScenarioError(Error): ...
+class FidelityError(Error): ...
 
 class Material:
     """Elastic half-space: Young's modulus E (Pa), Poisson's ratio nu."""
@@ -124,6 +125,18 @@ def bem_solve(
     max_iterations: int = 5000,
     periodic: bool = False,
 ) -> Dict[str, Any]: ...
+def compare_texture(
+    heights: F64,
+    dx: float,
+    dy: float,
+    material: Material,
+    loads: Sequence[float],
+    *,
+    rungs: Optional[Sequence[str]] = None,
+    min_prominence: float = 0.2e-3,
+    min_area: float = 2e-6,
+    max_cap_width: Optional[float] = None,
+) -> Dict[str, Any]: ...
 def analyse_film(
     grey: F64,
     pixel_size: float,
@@ -135,4 +148,5 @@ def run_scenario(
     scenario: Union[str, PathLike[str], Dict[str, Any]],
     base_dir: Optional[Union[str, PathLike[str]]] = None,
     progress: Optional[Callable[[int, int], Optional[bool]]] = None,
+    checkpoint_dir: Optional[Union[str, PathLike[str]]] = None,
 ) -> Dict[str, Any]: ...
