@@ -61,6 +61,7 @@ pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;
 pub use rolling_spec::{
     ContactSlopeSpec, ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec,
+    approach_past_window_warning,
 };
 pub use rolling_stream::StreamedRun;
 pub use spec::{

@@ -247,6 +247,24 @@ impl RollingSpec {
     }
 }
 
+/// The warning a rolling run on `config` is given before its first step
+/// when its imposed approach is deeper than the tread's profile at the
+/// edge of its selection window (`RollingConfig::approach_past_window`):
+/// the contact then runs past the window at every step, and steps pressed
+/// far past the road's shapes can take minutes. `None` otherwise.
+pub fn approach_past_window_warning(config: &rolling::RollingConfig) -> Option<String> {
+    config.approach_past_window().map(|(approach, boundary)| {
+        format!(
+            "the imposed approach ({:.3} mm) is deeper than the tread's profile at the edge \
+             of its selection window ({:.3} mm): the contact runs past the window at every \
+             step, whose answer is then no tread's, and steps pressed far past the road's \
+             shapes can take long (a smaller approach, a longer footprint or a wider margin)",
+            approach * 1e3,
+            boundary * 1e3
+        )
+    })
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {

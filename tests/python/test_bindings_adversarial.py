@@ -131,3 +131,38 @@ def test_compare_texture_puts_a_road_of_ones_own_against_the_bem():
         tr.compare_texture(heights, dx, dy, RUBBER, [])
     with pytest.raises(tr.InputError, match="loads"):
         tr.compare_texture(heights, dx, dy, RUBBER, [float("nan")])
+
+
+def two_balls(load):
+    return {
+        "name": "two",
+        "material": {"youngs_modulus": "6.54 MPa", "poisson_ratio": 0.5},
+        "default_shape": {"kind": "sphere", "radius": "5 mm"},
+        "static": {"loads": [load]},
+        "asperity": [{"x": "0 mm", "y": "0 mm"}, {"x": "10 mm", "y": "0 mm"}],
+    }
+
+
+def test_the_warnings_the_cli_prints_reach_python():
+    # Two 5 mm balls at 5000 N are pressed past their equators: the CLI
+    # warns; Python returned the same numbers without a word.
+    with pytest.warns(UserWarning, match="equator"):
+        r = tr.run_scenario(two_balls("5000 N"))
+    assert any("equator" in w for w in r["warnings"]), r["warnings"]
+    # At 5 N nothing is wrong: no warning, an empty list.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = tr.run_scenario(two_balls("5 N"))
+    assert r["warnings"] == []
+
+
+def test_an_approach_past_the_tread_s_window_is_warned_of_before_the_steps():
+    with open(ROLLING, "rb") as f:
+        scenario = tomllib.load(f)
+    scenario["rolling"]["control"] = {"approach": "1 m"}
+    # Warned before the first step (which can take minutes): stopped at once.
+    with pytest.warns(UserWarning, match="deeper than the tread's profile"):
+        with pytest.raises(tr.ScenarioError, match="interrupted"):
+            tr.run_scenario(scenario, base_dir=ROOT / "fixtures", progress=lambda d, t: False)

@@ -63,16 +63,8 @@ pub fn run_rolling(scenario: &Scenario, base_dir: &Path, out: &Path) -> Result<F
         say!("note: {note}");
     }
     // Said before the steps: pressed this deep, a step can take minutes.
-    if let Some((approach, boundary)) = config.approach_past_window() {
-        say!(
-            "warning: the imposed approach ({:.3} mm) is deeper than the tread's profile at \
-             the edge of its selection window ({:.3} mm): the contact runs past the window at \
-             every step, whose answer is then no tread's, and steps pressed far past the \
-             road's shapes can take long (a smaller approach, a longer footprint or a wider \
-             margin)",
-            approach * 1e3,
-            boundary * 1e3
-        );
+    if let Some(warning) = tyreroad::scenario::approach_past_window_warning(&config) {
+        say!("warning: {warning}");
     }
     let result = scenario.run(&options);
     bar.finish();

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use tyreroad::scenario::{
     HistoryResult, Progress, RoadSummary, RollingRun, RunOptions, Scenario, ScenarioResult,
-    StaticResult, TextureResult, TextureSummary,
+    StaticResult, TextureResult, TextureSummary, approach_past_window_warning,
 };
 
 use crate::arrays::{to_numpy1, to_numpy2};
@@ -262,7 +262,10 @@ fn rolling_dict<'py>(py: Python<'py>, r: &RollingRun) -> PyResult<Bound<'py, PyD
 /// `radii` of shape (loads, N), …), `"texture"` (the same plus the
 /// two-scale `pressure_maps`) or `"rolling"` (`time`, `total_force`,
 /// `sensor_forces` (sensors, steps), one-third-octave `band_centre` (Hz) and
-/// `band_level_db`, …).
+/// `band_level_db`, …). Every kind carries `warnings`: what `cargo xtask
+/// run` prints as `warning:` lines (contacts pressed past their shapes or
+/// tables, a footprint off the map, an approach past the tread's window),
+/// each also raised as a `UserWarning`.
 #[pyfunction]
 #[pyo3(signature = (scenario, base_dir=None, progress=None, checkpoint_dir=None))]
 fn run_scenario<'py>(
@@ -273,6 +276,18 @@ fn run_scenario<'py>(
     checkpoint_dir: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (scenario, base_dir) = load(scenario, base_dir)?;
+    // Said before the steps, as the CLI does: pressed this deep, a step
+    // can take minutes.
+    let early: Vec<String> = scenario
+        .rolling
+        .as_ref()
+        .and_then(|_| scenario.rolling_config().ok())
+        .and_then(|config| approach_past_window_warning(&config))
+        .into_iter()
+        .collect();
+    for w in &early {
+        warn(py, w)?;
+    }
     let callback_error: Mutex<Option<PyErr>> = Mutex::new(None);
     let result = crate::interrupt::run(py, |cancel: &AtomicBool| {
         let on_step = |p: Progress| {
@@ -311,12 +326,62 @@ fn run_scenario<'py>(
     if let Some(e) = callback_error.lock().ok().and_then(|mut s| s.take()) {
         return Err(e);
     }
-    match result.or_raise()? {
+    let result = result.or_raise()?;
+    let after = result_warnings(&result);
+    let out = match result {
         ScenarioResult::Static(r) => static_dict(py, &r),
         ScenarioResult::Texture(r) => texture_dict(py, *r),
         ScenarioResult::Rolling(r) => rolling_dict(py, &r),
         ScenarioResult::History(r) => history_dict(py, &r),
+    }?;
+    for w in &after {
+        warn(py, w)?;
     }
+    out.set_item(
+        "warnings",
+        early.into_iter().chain(after).collect::<Vec<_>>(),
+    )?;
+    Ok(out)
+}
+
+/// What `cargo xtask run` prints as `warning:` lines for a result, in the
+/// same words (the warning said before the steps is added by the caller).
+/// Each is also raised as a Python `UserWarning`.
+fn result_warnings(result: &ScenarioResult) -> Vec<String> {
+    let calibration = |t: &TextureSummary| {
+        t.calibration
+            .iter()
+            .flat_map(|c| c.past_tables.warning())
+            .collect::<Vec<_>>()
+    };
+    match result {
+        ScenarioResult::Static(r) => r.warnings.clone(),
+        ScenarioResult::Texture(r) => r
+            .statics
+            .warnings
+            .iter()
+            .chain(&r.texture.warnings)
+            .cloned()
+            .chain(calibration(&r.texture))
+            .collect(),
+        ScenarioResult::Rolling(r) => {
+            let mut w = r.road.warnings().to_vec();
+            if let RoadSummary::Texture(t) = &r.road {
+                w.extend(calibration(t));
+            }
+            w
+        }
+        ScenarioResult::History(r) => r.warnings.clone(),
+    }
+}
+
+/// Raises `message` as a Python `UserWarning` (an error when the caller's
+/// warning filters say so).
+fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
+    let text = std::ffi::CString::new(message.replace('\0', " "))
+        .map_err(|e| input_error(format!("warning text: {e}")))?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, category.as_any(), &text, 1)
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
