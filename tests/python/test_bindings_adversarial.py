@@ -166,3 +166,45 @@ def test_an_approach_past_the_tread_s_window_is_warned_of_before_the_steps():
     with pytest.warns(UserWarning, match="deeper than the tread's profile"):
         with pytest.raises(tr.ScenarioError, match="interrupted"):
             tr.run_scenario(scenario, base_dir=ROOT / "fixtures", progress=lambda d, t: False)
+
+
+def test_a_saturated_film_print_is_warned_of_and_counted():
+    # Two discs, one at a mid grey and one black (past the calibration's
+    # top): the saturated one's force is a lower bound, said so.
+    size, px = 200, 1e-4
+    yy, xx = np.mgrid[0:size, 0:size]
+    grey = np.full((size, size), 0.95)
+    grey[(xx - 50) ** 2 + (yy - 60) ** 2 <= 15 * 15] = 0.5
+    grey[(xx - 140) ** 2 + (yy - 120) ** 2 <= 20 * 20] = 0.0
+    with pytest.warns(UserWarning, match="saturated"):
+        out = tr.analyse_film(grey, px)
+    saturated = sorted(out["saturated_pixels"])
+    assert saturated[0] == 0 and saturated[1] > 0.9 * np.pi * 20**2, saturated
+    assert out["touches_border"] == [False, False]
+    assert len(out["below_range_pixels"]) == 2
+
+
+def test_a_one_line_scenario_is_toml_not_a_path():
+    with pytest.raises(tr.ScenarioError) as e:
+        tr.run_scenario('name = "x"')
+    assert "No such file" not in str(e.value), e.value
+
+
+class _Topography:
+    def __init__(self, h, sizes=(4e-3, 2e-3)):
+        self._h, self.physical_sizes = h, sizes
+
+    def heights(self):
+        return self._h
+
+
+def test_a_topography_s_spacing_is_its_own_and_its_heights_real():
+    h = np.zeros((40, 20))
+    out, dx, dy = tr.height_map(_Topography(h))
+    assert out.shape == (20, 40) and dx == pytest.approx(1e-4) and dy == pytest.approx(1e-4)
+    with pytest.raises(tr.InputError, match="own spacing"):
+        tr.height_map(_Topography(h), 1.0, 2.0)
+    with pytest.raises(tr.InputError, match="real floats"):
+        tr.height_map(_Topography(h.astype(complex)))
+    with pytest.raises(tr.InputError, match="physical_sizes"):
+        tr.height_map(_Topography(h, (1e-3, 1e-3, 1e-3)))

@@ -77,6 +77,32 @@ fn analyse_film<'py>(
     out.set_item("centroid_y", column(&|p| p.centroid_px.1))?;
     out.set_item("mean_pressure", column(&|p| p.mean_pixel_pressure))?;
     out.set_item("force", column(&|p| p.mean_pixel_pressure * p.area))?;
+    let counts = |f: &dyn Fn(&tyreroad::film::Print) -> usize| -> Vec<usize> {
+        d.prints.iter().map(f).collect()
+    };
+    out.set_item("saturated_pixels", counts(&|p| p.saturated_pixels))?;
+    out.set_item("below_range_pixels", counts(&|p| p.below_range_pixels))?;
+    out.set_item(
+        "touches_border",
+        d.prints
+            .iter()
+            .map(|p| p.touches_border)
+            .collect::<Vec<_>>(),
+    )?;
+    // A saturated print's force counts its saturated pixels at the
+    // calibration's top: a lower bound, which a user must be told of.
+    for (k, p) in d.prints.iter().enumerate() {
+        if p.saturated_pixels > 0 {
+            crate::scenario::warn(
+                py,
+                &format!(
+                    "print {k}: {} pixels read above the calibration's top (saturated): its \
+                     mean pressure and force are lower bounds",
+                    p.saturated_pixels
+                ),
+            )?;
+        }
+    }
     out.set_item("threshold_grey", d.threshold_grey)?;
     out.set_item("background_grey", d.background_grey)?;
     out.set_item("labels", to_numpy2(py, d.labels, d.height, d.width)?)?;

@@ -80,8 +80,10 @@ fn load(scenario: &Bound<'_, PyAny>, base_dir: Option<PathBuf>) -> PyResult<(Sce
         let s = Scenario::parse(&text, "<dict>").or_raise()?;
         return Ok((s, base_dir.unwrap_or_else(|| PathBuf::from("."))));
     }
+    // TOML text: several lines, or one `key = value` line that names no
+    // file (a one-line scenario is TOML, not a path).
     if let Ok(text) = scenario.extract::<String>()
-        && text.contains('\n')
+        && (text.contains('\n') || (text.contains('=') && !std::path::Path::new(&text).exists()))
     {
         let s = Scenario::parse(&text, "<text>").or_raise()?;
         return Ok((s, base_dir.unwrap_or_else(|| PathBuf::from("."))));
@@ -377,7 +379,7 @@ fn result_warnings(result: &ScenarioResult) -> Vec<String> {
 
 /// Raises `message` as a Python `UserWarning` (an error when the caller's
 /// warning filters say so).
-fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
+pub(crate) fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
     let text = std::ffi::CString::new(message.replace('\0', " "))
         .map_err(|e| input_error(format!("warning text: {e}")))?;
     let category = py.get_type::<pyo3::exceptions::PyUserWarning>();

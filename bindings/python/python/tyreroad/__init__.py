@@ -77,13 +77,26 @@ def height_map(
     ``Topography``, whose ``heights()`` is indexed ``[x, y]``: transposed here).
 
     An array that is already float64 and C-contiguous is passed through as a
-    view; a topography's transposed heights are copied once to C order.
+    view; a topography's transposed heights are copied once to C order (float32
+    heights widened to float64; complex or integer heights refused, as are
+    ``dx``/``dy`` given with a topography, which has its own).
     """
     if hasattr(surface, "heights") and hasattr(surface, "physical_sizes"):
-        h = np.asarray(surface.heights(), dtype=np.float64)
+        if dx is not None or dy is not None:
+            raise InputError(
+                "dx, dy: a topography carries its own spacing (physical_sizes); "
+                "give them only with a plain array"
+            )
+        raw = np.asarray(surface.heights())
+        if raw.dtype.kind != "f":
+            raise InputError(f"surface: heights must be real floats, got dtype {raw.dtype}")
+        h = raw.astype(np.float64, copy=False)
         if h.ndim != 2:
             raise InputError(f"surface: a 2-D topography is needed, got {h.ndim}-D")
-        sx, sy = surface.physical_sizes
+        sizes = tuple(surface.physical_sizes)
+        if len(sizes) != 2:
+            raise InputError(f"surface: physical_sizes must be (sx, sy), got {sizes}")
+        sx, sy = sizes
         nx, ny = h.shape
         return np.ascontiguousarray(h.T), float(sx) / nx, float(sy) / ny
     if dx is None:
