@@ -167,9 +167,19 @@ fn a_static_texture_run_measures_its_approach_from_the_maps_highest_point() -> T
 /// Two equal balls R = 5 mm, 12 mm apart, summits on cell centres, on a
 /// plane 1.5 mm below, 0.1 mm cells.
 fn two_balls() -> Result<HeightMap, Box<dyn std::error::Error>> {
+    balls(241, 121, 1e-4, [[6e-3, 6e-3], [18e-3, 6e-3]])
+}
+
+/// Balls of 5 mm radius standing 1.5 mm proud of a flat at `centres`, on
+/// `nx × ny` points at `dx`.
+fn balls(
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    centres: [[f64; 2]; 2],
+) -> Result<HeightMap, Box<dyn std::error::Error>> {
     let r = 5e-3;
-    let centres = [[6e-3, 6e-3], [18e-3, 6e-3]];
-    Ok(HeightMap::from_fn(241, 121, 1e-4, 1e-4, move |x, y| {
+    Ok(HeightMap::from_fn(nx, ny, dx, dx, move |x, y| {
         centres
             .iter()
             .map(|c| {
@@ -293,5 +303,40 @@ fn a_coarser_segmentation_moves_the_outputs_little() -> TestResult {
     assert!(r.approach_change().abs() < 0.01, "{r:?}");
     assert!(r.area_change().abs() < 0.01, "{r:?}");
     assert!(r.block_moved.iter().all(|&m| m < 0.01), "{r:?}");
+    Ok(())
+}
+
+/// Regression (2026-11-30, `validate --textures --scenario` on a 120 ×
+/// 90 mm road): the block fields' rebuild assembled its pressure map at
+/// the local fields' cell (tens of µm), over the whole road: 6e7 cells,
+/// past the map's limit, and every load of the rung failed. The metrics
+/// read the local fields only; the map is assembled at the texture's
+/// spacing. Two balls at opposite corners of a 150 mm road, light loads
+/// (contacts of about 0.4 mm: a local cell near 10 µm), each load solved,
+/// the calibrated rung's approach on the BEM's to 2 %.
+#[test]
+fn a_wide_road_with_small_contacts_is_compared_not_failed_on_its_map() -> TestResult {
+    let map = balls(400, 400, 3.75e-4, [[10e-3, 10e-3], [140e-3, 140e-3]])?;
+    let options = CompareOptions {
+        loads: vec![0.5, 1.0],
+        road: TextureRoadOptions::new(0.2e-3, 2e-6),
+        calibration: CalibrationOptions::default(),
+        rungs: vec![Fidelity::Wilke, Fidelity::Calibrated],
+        solver: SolverOptions::default(),
+        neighbour_passes: 0,
+    };
+    let c = compare_texture(&map, Material::new(6.54e6, 0.5)?, &options)?;
+    assert_eq!(c.asperities, 2);
+    for rung in &c.rungs {
+        for load in &rung.loads {
+            let load = load
+                .as_ref()
+                .map_err(|e| format!("{}: {e}", rung.fidelity))?;
+            assert!(load.field_block[0].is_finite(), "{load:?}");
+            if rung.fidelity == Fidelity::Calibrated {
+                assert!(load.approach_error.abs() < 0.02, "{load:?}");
+            }
+        }
+    }
     Ok(())
 }

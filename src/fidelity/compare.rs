@@ -405,8 +405,12 @@ pub fn compare_texture(
     } else {
         calibrator
     };
+    // The metrics read the local fields, never the assembled map: it is
+    // assembled at the texture's spacing, as a static run's is, so a road of
+    // 100 mm does not ask for a map of 6e7 cells at the local cell.
     let rebuild = TwoScaleOptions {
         neighbour_passes: options.neighbour_passes,
+        map_cell: Some(map.dx().min(map.dy())),
         ..TwoScaleOptions::default()
     };
     let mut calibrated: Option<(Problem<super::CalibratedLaw>, f64)> = None;

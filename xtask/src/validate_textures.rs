@@ -137,10 +137,14 @@ struct Road {
     resolution: bool,
 }
 
-/// The most points a road of `--scenario` may have: the BEM's resolution
-/// study solves it again refined to half the cell (four times the points),
-/// and the largest `--texture-cells` road (2000 × 2000) has as many.
+/// The most points a road of `--scenario` may have: as many as the largest
+/// `--texture-cells` road (2000 × 2000).
 const MAX_SCENARIO_POINTS: usize = 4_000_000;
+
+/// The most points of the BEM resolution study's finest grid on a road of
+/// `--scenario` (the map refined to half its cell, four times its points):
+/// past it the study is skipped, with a note in the report.
+const MAX_RESOLUTION_POINTS: usize = 4_000_000;
 
 /// Runs the texture validation on the seven kinds, or on the road of
 /// `scenario`; fails only if a case cannot be run at all (a rung's failed
@@ -216,7 +220,14 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
             c.asperities,
             t.elapsed().as_secs_f64()
         );
-        if road.resolution {
+        let refined = (2 * road.map.nx() - 1) * (2 * road.map.ny() - 1);
+        if road.resolution && refined > MAX_RESOLUTION_POINTS {
+            writeln!(
+                report,
+                "\nBEM resolution, {label}: not studied (the map refined to half its cell \
+                 would hold {refined} points, more than {MAX_RESOLUTION_POINTS})."
+            )?;
+        } else if road.resolution {
             let loads = &road.options.loads;
             let load = loads[loads.len() / 2];
             let rows = bem_resolution(&road.map, &road.material, load)?;
@@ -340,8 +351,8 @@ fn scenario_road(
     if points > MAX_SCENARIO_POINTS {
         bail!(
             "{}: the road's map is {} × {} points, more than the {MAX_SCENARIO_POINTS} the \
-             full BEM of this comparison takes: cut a window of the texture into a file of \
-             its own (`cargo xtask texture`)",
+             full BEM of this comparison takes: compare a window of the texture, written as a \
+             file of its own (400 × 400 points at 0.1 mm already hold 16 blocks of 10 mm)",
             path.display(),
             map.nx(),
             map.ny()
@@ -415,6 +426,7 @@ fn segmentation_rows(
     };
     let rebuild = tyreroad::two_scale::TwoScaleOptions {
         neighbour_passes: options.neighbour_passes,
+        map_cell: Some(map.dx().min(map.dy())),
         ..Default::default()
     };
     let rows = segmentation_spread(
