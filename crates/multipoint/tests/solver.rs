@@ -439,3 +439,42 @@ fn a_solution_that_is_not_finite_is_an_error_not_converged() {
         s.forces[0]
     );
 }
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30): three
+/// summits 1e-302 m apart passed the coincidence check (relative to the
+/// layout's own size) while `r²` underflowed to 0 in the coupling: solved
+/// as uncoupled balls. They are coincident summits now.
+#[test]
+fn summits_closer_than_the_coupling_can_hold_are_coincident() {
+    let result = Problem::new(
+        vec![[0.0, 0.0], [1e-302, 0.0], [0.0, 1e-302]],
+        vec![0.0; 3],
+        vec![ball(5e-3); 3],
+        rubber(),
+    );
+    assert!(
+        matches!(result, Err(SolveError::CoincidentSummits { .. })),
+        "{:?}",
+        result.err()
+    );
+}
+
+/// Regression (adversarial run of the Python bindings, 2026-11-30): a
+/// summit 1e300 m below two others made the solve fail with "asperity 0:
+/// position [NaN, NaN] is not finite", a message about positions the user
+/// never gave wrong: the clusters' recovery placed a body by forces that
+/// had overflowed. The solve's own failure is reported, or a finite answer.
+#[test]
+fn an_overflowing_gap_is_not_reported_as_a_bad_position() {
+    let problem = Problem::from_heights(
+        vec![[0.0, 0.0], [0.01, 0.0], [0.0, 0.01]],
+        &[0.0, -1e300, 0.0],
+        vec![ball(5e-3); 3],
+        rubber(),
+    )
+    .unwrap();
+    match solve(&problem, Control::Load(1.0), &SolverOptions::default()) {
+        Ok(s) => assert!(s.forces.iter().all(|f| f.is_finite()), "{:?}", s.forces),
+        Err(e) => assert!(!e.to_string().contains("position"), "{e}"),
+    }
+}

@@ -454,6 +454,10 @@ pub(super) fn refine<L: ContactLaw + Sync>(
                 (last_ok, reach) = (false, reach * 1.5);
                 last_err = Some(e);
             }
+            // A clustering that cannot be built (a body placed by forces
+            // that overflowed: "position [NaN, NaN]") ends the recovery;
+            // the solve's own failure, with its residual, is what to say.
+            Err(_) if last_err.is_some() => break,
             Err(e) => return Err(e),
         }
     }
