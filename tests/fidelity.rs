@@ -340,3 +340,72 @@ fn a_wide_road_with_small_contacts_is_compared_not_failed_on_its_map() -> TestRe
     }
     Ok(())
 }
+
+/// Regression (adversarial run of the texture comparison, 2026-11-30): a
+/// missing scan line through a ball's summit split it into two asperities
+/// 0.6 µm apart, and the comparison reported an approach error of
+/// +57 000 % as an ordinary row; a load pressing the road flat, or one
+/// whose contact is a cell or two, gave rows of "perfect agreement" that
+/// say nothing. Each is now said: the row's warning names the summits
+/// inside each other's patch, and the comparison's notes say what the
+/// reference cannot (missing points filled, the map pressed flat, a
+/// contact of too few cells).
+#[test]
+fn a_comparison_says_what_its_rows_cannot() -> TestResult {
+    let material = Material::new(6.54e6, 0.5)?;
+    let options = |loads: Vec<f64>| CompareOptions {
+        loads,
+        road: TextureRoadOptions::new(0.2e-3, 2e-6),
+        calibration: CalibrationOptions::default(),
+        rungs: vec![Fidelity::Wilke],
+        solver: SolverOptions::default(),
+        neighbour_passes: 0,
+    };
+    // A scan line missing through the first ball's summit (y = 6 mm).
+    let whole = two_balls()?;
+    let mut heights = whole.heights().to_vec();
+    for i in 0..whole.nx() {
+        heights[60 * whole.nx() + i] = f64::NAN;
+    }
+    let holed = HeightMap::from_nan_heights(whole.nx(), whole.ny(), 1e-4, 1e-4, heights)?;
+    let c = compare_texture(&holed, material, &options(vec![10.0]))?;
+    let warnings: Vec<&String> = c.rungs[0]
+        .loads
+        .iter()
+        .flatten()
+        .flat_map(|l| &l.warnings)
+        .collect();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("inside a contact patch")),
+        "{warnings:?}"
+    );
+    // The whole ball map: no warning, no note at a load it carries.
+    let c = compare_texture(&whole, material, &options(vec![10.0]))?;
+    assert!(c.notes.is_empty(), "{:?}", c.notes);
+    assert!(
+        c.rungs[0]
+            .loads
+            .iter()
+            .flatten()
+            .all(|l| l.warnings.is_empty())
+    );
+    // Pressed flat, and a contact of a cell or two.
+    let c = compare_texture(&whole, material, &options(vec![1e-6, 5000.0]))?;
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n.contains("cell(s)") && n.contains("0.000001 N")),
+        "{:?}",
+        c.notes
+    );
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n.contains("pressed flat") && n.contains("5000 N")),
+        "{:?}",
+        c.notes
+    );
+    Ok(())
+}

@@ -30,12 +30,13 @@ use std::time::Instant;
 
 use crate::bem::{self, BemOptions, Grid, Solver};
 use crate::contact_law::{ContactLaw, Material};
-use crate::multipoint::{Control, Problem, Solution, SolverOptions, solve};
+use crate::multipoint::{Control, Problem, Solution, SolverOptions, overlapping_contacts, solve};
 use crate::texture::{HeightMap, UNLABELLED};
 use crate::texture_road::{TextureRoad, TextureRoadOptions, texture_road};
 use crate::two_scale::{LocalShape, TwoScale, TwoScaleOptions, two_scale_solution};
 
 use super::coupling::{FieldCouplingOptions, solve_field_coupled};
+pub use super::reference_notes::reference_notes;
 use super::{
     CacheCounts, CalibrationOptions, Calibrator, Coupling, Fidelity, FidelityError, LawSource,
     calibrated_set, solve_calibrated,
@@ -80,6 +81,8 @@ pub struct BemLoad {
     pub asperity_forces: Vec<f64>,
     /// Force on no kept asperity's basin (N).
     pub off_asperity: f64,
+    /// Force on the map's missing points, filled for the BEM (N).
+    pub on_missing: f64,
     /// Force per block of each size of [`BLOCKS`] (N).
     pub block_forces: [Vec<f64>; 2],
     /// CG iterations.
@@ -114,6 +117,9 @@ pub struct RungLoad {
     pub coupling_rounds: usize,
     /// The BEM's solve time at this load (s).
     pub bem_seconds: f64,
+    /// What makes this load's answer no road's (summits inside each
+    /// other's contact patch, where the point coupling is far too stiff).
+    pub warnings: Vec<String>,
 }
 
 /// One rung on the texture.
@@ -145,6 +151,8 @@ pub struct TextureComparison {
     pub law_only: Vec<f64>,
     /// The calibration cache's counts.
     pub cache: CacheCounts,
+    /// What the reference itself cannot say ([`reference_notes`]).
+    pub notes: Vec<String>,
 }
 
 /// Labels of the map's cells: the kept asperity's index, `n` elsewhere.
@@ -271,8 +279,12 @@ fn bem_reference(
         let seconds = t.elapsed().as_secs_f64();
         let mut per_label = vec![0.0; n + 1];
         let cell = grid.cell_area();
+        let mut on_missing = 0.0;
         for (c, p) in sol.pressure.iter().enumerate() {
             per_label[labels[c]] += p * cell;
+            if !map.valid()[c] {
+                on_missing += p * cell;
+            }
         }
         let block_forces = [0, 1].map(|b| {
             let (bx, by) = blocks_per_row(map, BLOCKS[b]);
@@ -287,6 +299,7 @@ fn bem_reference(
             approach: sol.approach,
             contact_area: sol.contact_area,
             off_asperity: per_label[n],
+            on_missing,
             asperity_forces: per_label[..n].to_vec(),
             block_forces,
             iterations: sol.iterations,
@@ -346,6 +359,18 @@ fn run_rung<L: ContactLaw + Sync>(
                     wrong_load(&m, &b.block_forces[k], b.load)
                 })
             });
+            let contacts = s.local_contacts(problem);
+            let overlapping = overlapping_contacts(problem.positions(), &contacts);
+            let ids: Vec<u32> = (1..=problem.len() as u32).collect();
+            let warnings = crate::scenario::summits_inside_patches(
+                b.load,
+                problem.positions(),
+                &contacts,
+                &overlapping,
+                &ids,
+            )
+            .into_iter()
+            .collect();
             let mut with_off = s.forces.clone();
             with_off.push(0.0);
             let mut reference = b.asperity_forces.clone();
@@ -360,6 +385,7 @@ fn run_rung<L: ContactLaw + Sync>(
                 seconds,
                 coupling_rounds,
                 bem_seconds: b.seconds,
+                warnings,
             })
         })
         .collect()
@@ -516,6 +542,7 @@ pub fn compare_texture(
         None => Vec::new(),
     };
     Ok(TextureComparison {
+        notes: reference_notes(map, road.len(), &bem),
         asperities: road.len(),
         bem_cells: map.nx() * map.ny(),
         bem,

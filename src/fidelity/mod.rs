@@ -42,6 +42,7 @@ pub mod coupling;
 pub mod field;
 pub mod joint;
 pub mod pair_sum;
+mod reference_notes;
 pub mod rolling;
 pub mod rolling_fields;
 pub mod segmentation;

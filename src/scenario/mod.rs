@@ -68,6 +68,7 @@ pub use spec::{
     AsperitySpec, DynLaw, MaterialSpec, ModelSpec, RoadKindSpec, Scenario, ShapeSpec, SolverSpec,
     StaticSpec, SynthSpec, TextureSpec,
 };
+pub(crate) use statics::summits_inside_patches;
 pub use statics::{
     LoadRun, StaticResult, StaticRow, StaticSolve, loads, run_static, run_static_problem,
     run_static_problem_with, static_loads,

@@ -258,7 +258,7 @@ pub struct StaticSolve {
 /// and the approach are not physical. Two summits 1 µm apart under 50 N
 /// carried almost nothing between them while a third took the load, with
 /// only the overlap note. At most a few pairs are named.
-fn summits_inside_patches(
+pub(crate) fn summits_inside_patches(
     load: f64,
     positions: &[[f64; 2]],
     contacts: &[LocalContact],

@@ -208,3 +208,12 @@ def test_a_topography_s_spacing_is_its_own_and_its_heights_real():
         tr.height_map(_Topography(h.astype(complex)))
     with pytest.raises(tr.InputError, match="physical_sizes"):
         tr.height_map(_Topography(h, (1e-3, 1e-3, 1e-3)))
+
+
+def test_compare_texture_says_what_its_reference_cannot():
+    heights, dx, dy = tr.read_texture(SPHERES)
+    with pytest.warns(UserWarning, match=r"cell\(s\)"):
+        c = tr.compare_texture(heights, dx, dy, RUBBER, [1e-6], rungs=["wilke"], min_area=1e-6)
+    assert any("cell(s)" in n for n in c["notes"]), c["notes"]
+    assert c["rungs"]["wilke"]["loads"][0]["warnings"] == []
+    assert c["rungs"]["wilke"]["unavailable"] is None

@@ -135,6 +135,9 @@ struct Road {
     options: CompareOptions,
     /// Whether the BEM's resolution study runs on this road.
     resolution: bool,
+    /// What the report says of the scenario before its tables (loads
+    /// listed twice, a viscoelastic tread compared elastically).
+    notes: Vec<String>,
 }
 
 /// The most points a road of `--scenario` may have: as many as the largest
@@ -193,6 +196,9 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
         )?],
         None => kind_roads(args, &base, max_cap_width)?,
     };
+    // The output folder is checked before the comparison (minutes), not
+    // after it.
+    let mut set = OutputSet::new(out)?;
     let grid = grid_label(&roads[0].map);
     let mut results = Vec::new();
     let mut report = String::new();
@@ -211,6 +217,10 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
     }
     for road in &roads {
         let label = road.label.as_str();
+        for n in &road.notes {
+            writeln!(report, "Note ({label}): {n}.")?;
+            say!("note: {n}");
+        }
         eprintln!("validate --textures: {label} ...");
         let t = Instant::now();
         let c = compare_texture(&road.map, road.material, &road.options)
@@ -271,7 +281,6 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
     }
     say!("\n== all roads ==");
     say_part!("{report}");
-    let mut set = OutputSet::new(out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);
     Ok(())
@@ -311,6 +320,7 @@ fn kind_roads(
                 material: s.material()?,
                 options: options.clone(),
                 resolution: *label == RESOLUTION_KIND && !args.no_resolution,
+                notes: Vec::new(),
             })
         })
         .collect()
@@ -344,7 +354,22 @@ fn scenario_road(
         )
     })?;
     loads.sort_by(f64::total_cmp);
+    let given = loads.len();
     loads.dedup();
+    let mut notes = Vec::new();
+    if loads.len() < given {
+        notes.push(format!(
+            "{} load(s) listed more than once are compared once (the same contact)",
+            given - loads.len()
+        ));
+    }
+    if s.material.viscoelastic.is_some() {
+        notes.push(
+            "[material.viscoelastic] is not used: the comparison is elastic, at \
+             youngs_modulus"
+                .into(),
+        );
+    }
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let map = texture.height_map(base_dir)?;
     let points = map.nx() * map.ny();
@@ -372,6 +397,7 @@ fn scenario_road(
             ..base.clone()
         },
         resolution,
+        notes,
     })
 }
 
@@ -462,12 +488,12 @@ fn tables(results: &[(&str, TextureComparison)], rungs: &[Fidelity], grid: &str)
     for rung in rungs {
         writeln!(
             out,
-            "\nRung `{rung}` ({grid}; targets: approach {}, \
-             area {}, 10 mm block {}, 5 mm block {}, ≥ {COST_TARGET:.0}× cheaper):\n",
-            pct(TARGETS[0]),
-            pct(TARGETS[1]),
-            pct(TARGETS[2]),
-            pct(TARGETS[3])
+            "\nRung `{rung}` ({grid}; targets: approach ±{:.1} %, \
+             area ±{:.1} %, 10 mm block {:.1} %, 5 mm block {:.1} %, ≥ {COST_TARGET:.0}× cheaper):\n",
+            100.0 * TARGETS[0],
+            100.0 * TARGETS[1],
+            100.0 * TARGETS[2],
+            100.0 * TARGETS[3]
         )?;
         writeln!(
             out,
@@ -487,7 +513,7 @@ fn tables(results: &[(&str, TextureComparison)], rungs: &[Fidelity], grid: &str)
                 writeln!(out, "| {label} | {} | — | {why} |", c.asperities)?;
                 continue;
             }
-            for l in &res.loads {
+            for (k, l) in res.loads.iter().enumerate() {
                 match l {
                     Ok(RungLoad {
                         load,
@@ -501,7 +527,7 @@ fn tables(results: &[(&str, TextureComparison)], rungs: &[Fidelity], grid: &str)
                         ..
                     }) => writeln!(
                         out,
-                        "| {label} | {} | {load:.0} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
+                        "| {label} | {} | {load} | {} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {:.1} % | {seconds:.4} | {bem_seconds:.2} | {:.0} | {:.1} |",
                         c.asperities,
                         pct(*approach_error),
                         pct(*area_error),
@@ -513,8 +539,35 @@ fn tables(results: &[(&str, TextureComparison)], rungs: &[Fidelity], grid: &str)
                         bem_seconds / seconds.max(1e-9),
                         res.setup_seconds,
                     )?,
-                    Err(e) => writeln!(out, "| {label} | {} | — | failed: {e} |", c.asperities)?,
+                    Err(e) => writeln!(
+                        out,
+                        "| {label} | {} | {} | failed: {e} |",
+                        c.asperities,
+                        c.bem.get(k).map_or("—".into(), |b| b.load.to_string())
+                    )?,
                 }
+            }
+        }
+        let warned: Vec<&String> = results
+            .iter()
+            .filter_map(|(_, c)| c.rungs.iter().find(|r| r.fidelity == *rung))
+            .flat_map(|r| r.loads.iter().flatten().flat_map(|l| &l.warnings))
+            .collect();
+        if !warned.is_empty() {
+            writeln!(
+                out,
+                "\nWarnings, rung `{rung}` (rows whose answer is no road's):\n"
+            )?;
+            for w in warned {
+                writeln!(out, "- {w}")?;
+            }
+        }
+    }
+    for (label, c) in results {
+        if !c.notes.is_empty() {
+            writeln!(out, "\nWhat the reference cannot say ({label}):\n")?;
+            for n in &c.notes {
+                writeln!(out, "- {n}")?;
             }
         }
     }

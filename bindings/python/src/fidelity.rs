@@ -30,9 +30,14 @@ use crate::texture::height_map;
 /// by rung name of `setup_seconds` and `loads`, per load either the metrics
 /// (`load`, `approach_error`, `area_error`, `wrong_asperity`,
 /// `wrong_block_10mm`, `wrong_block_5mm`, `field_block_10mm`,
-/// `field_block_5mm`, fractions; `seconds`, `bem_seconds`) or `error`, the
-/// message of that load's failure. Runs without the GIL; Ctrl-C is raised
-/// when the comparison ends.
+/// `field_block_5mm`, fractions; `seconds`, `bem_seconds`; `warnings`:
+/// summits inside each other's contact patch, where the answer is no
+/// road's) or `error`, the message of that load's failure; `unavailable`:
+/// why a rung did not run at all (`None` when it ran). `notes`: what the
+/// reference cannot say (missing points filled, a contact covering most of
+/// the map or only a few cells, a single asperity). Each warning and note
+/// is also raised as a `UserWarning`. Loads listed twice are compared once.
+/// Runs without the GIL; Ctrl-C is raised when the comparison ends.
 #[pyfunction]
 #[pyo3(signature = (heights, dx, dy, material, loads, *, rungs=None, min_prominence=0.2e-3, min_area=2e-6, max_cap_width=None))]
 #[allow(clippy::too_many_arguments)]
@@ -134,6 +139,10 @@ fn compare_texture<'py>(
                     row.set_item("field_block_5mm", l.field_block[1])?;
                     row.set_item("seconds", l.seconds)?;
                     row.set_item("bem_seconds", l.bem_seconds)?;
+                    row.set_item("warnings", l.warnings.clone())?;
+                    for w in &l.warnings {
+                        crate::scenario::warn(py, &format!("{}: {w}", r.fidelity.name()))?;
+                    }
                 }
                 Err(e) => row.set_item("error", e)?,
             }
@@ -143,6 +152,10 @@ fn compare_texture<'py>(
         by_rung.set_item(r.fidelity.name(), d)?;
     }
     out.set_item("rungs", by_rung)?;
+    for n in &c.notes {
+        crate::scenario::warn(py, n)?;
+    }
+    out.set_item("notes", c.notes)?;
     Ok(out)
 }
 

@@ -493,3 +493,15 @@ fn an_image_file_is_refused_as_an_image_not_read_as_a_grid() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Regression (adversarial run of the texture comparison, 2026-11-30): a
+/// missing `.npy` was reported as its missing `.npy.spacing` sidecar.
+#[test]
+fn a_missing_npy_is_named_not_its_sidecar() {
+    let path = std::env::temp_dir().join(format!("tyreroad-no-such-{}.npy", std::process::id()));
+    let message = tyreroad_texture::read_any(&path).unwrap_err().to_string();
+    assert!(
+        message.contains(&path.display().to_string()) && !message.contains(".spacing"),
+        "{message}"
+    );
+}

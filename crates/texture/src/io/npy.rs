@@ -38,6 +38,11 @@ pub fn read_npy(path: impl AsRef<Path>, dx: f64, dy: f64) -> Result<HeightMap, T
 /// As [`read_npy`], and a missing or malformed sidecar.
 pub fn read_npy_with_sidecar(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
+    // The array first: a missing `.npy` is named as such, not as its
+    // missing sidecar.
+    if let Err(e) = std::fs::metadata(path) {
+        return Err(TextureError::io(path, e));
+    }
     let (dx, dy) = sidecar_spacing(path)?;
     read_npy(path, dx, dy)
 }
