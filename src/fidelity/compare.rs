@@ -20,6 +20,13 @@
 //!   blocks: [`field_blocks`]);
 //! - cost: the model's solve time and the BEM's on the same grid.
 //!
+//! Beside the numbers, what they cannot say: a row's warnings (summits
+//! inside each other's contact patch, where the point coupling is far too
+//! stiff: [`RungLoad::warnings`]) and the reference's notes (missing
+//! points filled, a contact pressed flat or unresolved, one asperity:
+//! [`reference_notes`]). A table of small errors is no validation when
+//! either says something.
+//!
 //! The law-only error: each asperity's BEM force is carried by the
 //! calibrated law at depth `δ_i*`; the Wilke law at `δ_i*` gives a force;
 //! `½ Σ |F_wilke(δ_i*) − F_BEM,i| / W` is what the law alone gets wrong

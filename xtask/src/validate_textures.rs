@@ -197,8 +197,13 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
         None => kind_roads(args, &base, max_cap_width)?,
     };
     // The output folder is checked before the comparison (minutes), not
-    // after it.
-    let mut set = OutputSet::new(out)?;
+    // after it; one this check made is removed again, so a run that fails
+    // leaves no folder behind.
+    let existed = out.exists();
+    drop(OutputSet::new(out)?);
+    if !existed {
+        let _ = std::fs::remove_dir(out);
+    }
     let grid = grid_label(&roads[0].map);
     let mut results = Vec::new();
     let mut report = String::new();
@@ -223,8 +228,13 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
         }
         eprintln!("validate --textures: {label} ...");
         let t = Instant::now();
-        let c = compare_texture(&road.map, road.material, &road.options)
-            .with_context(|| format!("road `{label}`"))?;
+        let c = compare_texture(&road.map, road.material, &road.options).with_context(|| {
+            // The library says widths in metres; the option took mm.
+            let width = road.options.road.max_cap_width.map_or(String::new(), |w| {
+                format!(" (max_cap_width {} mm = {w} m)", w * 1e3)
+            });
+            format!("road `{label}`{width}")
+        })?;
         eprintln!(
             "  {} asperities, {:.1} s",
             c.asperities,
@@ -281,6 +291,7 @@ pub fn run(args: &TextureArgs, scenario: Option<&Path>, out: &Path) -> Result<()
     }
     say!("\n== all roads ==");
     say_part!("{report}");
+    let mut set = OutputSet::new(out)?;
     set.write("texture_fidelity.md", report.as_bytes())?;
     crate::statics::print_written(&set.commit()?);
     Ok(())

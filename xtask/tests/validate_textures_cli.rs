@@ -222,3 +222,62 @@ fn a_texture_scenario_without_textures_is_pointed_to_the_texture_comparison() {
     );
     let _ = std::fs::remove_file(&path);
 }
+
+/// Regression (adversarial run of the texture comparison, 2026-11-30): an
+/// output path that was a file was refused only after the comparison had
+/// run (minutes on a real road). It is refused before, no table printed;
+/// a failed run leaves no folder it made.
+#[test]
+fn an_output_path_that_is_a_file_is_refused_before_the_comparison() {
+    let body = format!("[static]\nloads = [\"5 N\"]\n{}", spheres_texture());
+    let path = scenario_file("out-is-file", &body);
+    let file = std::env::temp_dir().join(format!("tyreroad-vt-afile-{}", std::process::id()));
+    std::fs::write(&file, "not a folder").expect("file written");
+    let output = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args([
+            "validate",
+            "--textures",
+            "--no-resolution",
+            "--rungs",
+            "wilke",
+        ])
+        .args(["--scenario", path.to_str().expect("UTF-8 temporary path")])
+        .arg("--out")
+        .arg(&file)
+        .output()
+        .expect("xtask runs");
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr),
+    );
+    assert!(!output.status.success());
+    assert!(stderr.contains("it is a file"), "{stderr}");
+    assert!(
+        !stdout.contains("Rung `wilke`"),
+        "compared first:\n{stdout}"
+    );
+    let _ = std::fs::remove_file(&file);
+    // A comparison that fails (tiles narrower than four cells) leaves no
+    // folder behind.
+    let (output, out) = validate(
+        "failed-no-folder",
+        &[
+            "--textures",
+            "--no-resolution",
+            "--rungs",
+            "wilke",
+            "--max-cap-width",
+            "0.1",
+            "--scenario",
+            path.to_str().expect("UTF-8 temporary path"),
+        ],
+    );
+    assert!(!output.status.success());
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains("max_cap_width 0.1 mm"),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(!out.exists(), "left {}", out.display());
+    let _ = std::fs::remove_file(&path);
+}
