@@ -123,7 +123,7 @@ pub struct TextureArgs {
     /// (mm) into tiles, one asperity each (`[texture] max_cap_width`,
     /// docs/texture.md "Wide tops split into tiles"); whole basins when
     /// absent.
-    #[arg(long, requires = "textures")]
+    #[arg(long, requires = "textures", allow_negative_numbers = true)]
     pub max_cap_width: Option<f64>,
 }
 

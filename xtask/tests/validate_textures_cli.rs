@@ -50,6 +50,15 @@ fn a_tile_width_that_is_not_positive_is_refused_by_max_cap_width() {
         assert!(!out.status.success(), "{option} exited 0");
         assert!(stderr.contains("--max-cap-width"), "{option}: {stderr}");
     }
+    // Written with a space, a negative width reaches the same check (it
+    // was taken for an unknown flag).
+    let out = validate_textures(&["--max-cap-width", "-2"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("--max-cap-width -2: expected a width > 0 in mm"),
+        "{stderr}"
+    );
 }
 
 /// `cargo xtask validate` with `args` into a fresh output folder `tag`.

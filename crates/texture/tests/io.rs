@@ -505,3 +505,30 @@ fn a_missing_npy_is_named_not_its_sidecar() {
         "{message}"
     );
 }
+
+/// Regression (adversarial run of the texture comparison, 2026-11-30): an
+/// `.xyz` whose points sit 3 µm off a 0.1 mm grid was refused as "grid
+/// 55682656 × 65038223 exceeds 1073741824 points". It is refused as points
+/// off a regular grid; the same points on the grid are read.
+#[test]
+fn xyz_points_off_a_regular_grid_are_said_to_be_off_it() {
+    let mut on = String::new();
+    let mut off = String::new();
+    for j in 0..20 {
+        for i in 0..20 {
+            let (x, y) = (i as f64 * 1e-4, j as f64 * 1e-4);
+            let jitter = if (i + j) % 2 == 0 { 3e-6 } else { 0.0 };
+            on.push_str(&format!("{x} {y} 0\n"));
+            off.push_str(&format!("{} {} 0\n", x + jitter, y + jitter));
+        }
+    }
+    let map = tyreroad_texture::io::text::xyz_from_str(&on).unwrap();
+    assert_eq!((map.nx(), map.ny()), (20, 20));
+    let message = tyreroad_texture::io::text::xyz_from_str(&off)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("off a regular grid") && !message.contains("exceeds"),
+        "{message}"
+    );
+}

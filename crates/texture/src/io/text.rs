@@ -272,13 +272,21 @@ pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
         (_, 1) => (dx, dx),
         _ => (dx, dy),
     };
-    let n = check_size(nx, ny).map_err(|e| TextureError::format(XYZ, e.to_string()))?;
-    if n / 64 > pts.len() {
+    // The fill first: points off a regular grid (jittered by a few µm, or
+    // rounded unevenly) make the smallest gap a fraction of the spacing and
+    // the grid absurdly large, which the size check would say as "exceeds".
+    if (nx as f64 * ny as f64) / 64.0 > pts.len() as f64 {
         return Err(TextureError::format(
             XYZ,
-            format!("{} points do not fill a {nx} × {ny} grid", pts.len()),
+            format!(
+                "{} points do not fill a {nx} × {ny} grid: the smallest gaps between their \
+                 coordinates (dx = {dx:e}, dy = {dy:e} m) are not the spacing; are the points \
+                 off a regular grid (jittered or unevenly rounded)?",
+                pts.len()
+            ),
         ));
     }
+    let n = check_size(nx, ny).map_err(|e| TextureError::format(XYZ, e.to_string()))?;
     let mut h = vec![f64::NAN; n];
     let mut seen = vec![false; n];
     for p in &pts {
