@@ -391,8 +391,20 @@ fn a_comparison_says_what_its_rows_cannot() -> TestResult {
             .flatten()
             .all(|l| l.warnings.is_empty())
     );
-    // Pressed flat, and a contact of a cell or two.
-    let c = compare_texture(&whole, material, &options(vec![1e-6, 5000.0]))?;
+    // Pressed flat, and a contact of a cell or two; a load given twice is
+    // compared once, and said.
+    let c = compare_texture(&whole, material, &options(vec![5000.0, 1e-6, 5000.0]))?;
+    assert_eq!(
+        c.bem.iter().map(|b| b.load).collect::<Vec<_>>(),
+        [1e-6, 5000.0]
+    );
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n.starts_with("1 load(s) listed more than once")),
+        "{:?}",
+        c.notes
+    );
     assert!(
         c.notes
             .iter()

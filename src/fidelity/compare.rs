@@ -59,7 +59,8 @@ pub const APPROACH_MARGIN: f64 = 1.3;
 /// What to compare.
 #[derive(Clone, Debug)]
 pub struct CompareOptions {
-    /// Loads (N), solved in increasing order.
+    /// Loads (N), solved in increasing order, each once (a repeat is
+    /// said in [`TextureComparison::notes`]).
     pub loads: Vec<f64>,
     /// Segmentation and Wilke law.
     pub road: TextureRoadOptions,
@@ -408,8 +409,12 @@ pub fn compare_texture(
     material: Material,
     options: &CompareOptions,
 ) -> Result<TextureComparison, FidelityError> {
+    // Increasing (the BEM warm-starts each load from the last), each once:
+    // a load listed twice is the same contact.
     let mut loads = options.loads.clone();
     loads.sort_by(f64::total_cmp);
+    loads.dedup();
+    let repeated = options.loads.len() - loads.len();
     let road = texture_road(map, material, &options.road)?;
     let grid_top = map
         .filled()
@@ -549,7 +554,11 @@ pub fn compare_texture(
         None => Vec::new(),
     };
     Ok(TextureComparison {
-        notes: reference_notes(map, road.len(), &bem),
+        notes: (repeated > 0)
+            .then(|| format!("{repeated} load(s) listed more than once are compared once"))
+            .into_iter()
+            .chain(reference_notes(map, road.len(), &bem))
+            .collect(),
         asperities: road.len(),
         bem_cells: map.nx() * map.ny(),
         bem,

@@ -129,6 +129,42 @@ pub enum ScenarioResult {
     History(HistoryResult),
 }
 
+impl ScenarioResult {
+    /// What makes the run's answer no road's, in the words `cargo xtask run`
+    /// prints as `warning:` lines: contacts pressed past their shapes or
+    /// tables, summits inside each other's patch, a footprint off the map.
+    /// (The warning said before a rolling run's steps is
+    /// [`approach_past_window_warning`]; caps that kept their Wilke law are
+    /// listed by the calibration summary's `fallbacks`.)
+    pub fn warnings(&self) -> Vec<String> {
+        let past_tables = |t: &TextureSummary| {
+            t.calibration
+                .iter()
+                .flat_map(|c| c.past_tables.warning())
+                .collect::<Vec<_>>()
+        };
+        match self {
+            Self::Static(r) => r.warnings.clone(),
+            Self::Texture(r) => r
+                .statics
+                .warnings
+                .iter()
+                .chain(&r.texture.warnings)
+                .cloned()
+                .chain(past_tables(&r.texture))
+                .collect(),
+            Self::Rolling(r) => {
+                let mut w = r.road.warnings().to_vec();
+                if let RoadSummary::Texture(t) = &r.road {
+                    w.extend(past_tables(t));
+                }
+                w
+            }
+            Self::History(r) => r.warnings.clone(),
+        }
+    }
+}
+
 impl Scenario {
     /// Parses a scenario and checks every value (`check`): errors name the
     /// offending key (and its line, for TOML errors).

@@ -135,8 +135,8 @@ struct Road {
     options: CompareOptions,
     /// Whether the BEM's resolution study runs on this road.
     resolution: bool,
-    /// What the report says of the scenario before its tables (loads
-    /// listed twice, a viscoelastic tread compared elastically).
+    /// What the report says of the scenario before its tables (a
+    /// viscoelastic tread compared elastically).
     notes: Vec<String>,
 }
 
@@ -347,9 +347,7 @@ fn scenario_road(
     max_cap_width: Option<f64>,
     resolution: bool,
 ) -> Result<Road> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let s = Scenario::parse(&text, &path.display().to_string())?;
+    let s = Scenario::from_path(path)?;
     let Some(texture) = &s.texture else {
         bail!(
             "{}: `validate --textures --scenario` compares the model with the BEM on a \
@@ -364,16 +362,10 @@ fn scenario_road(
             path.display()
         )
     })?;
+    // In order, for the resolution study's middle load; the comparison
+    // itself orders them and says a repeat.
     loads.sort_by(f64::total_cmp);
-    let given = loads.len();
-    loads.dedup();
     let mut notes = Vec::new();
-    if loads.len() < given {
-        notes.push(format!(
-            "{} load(s) listed more than once are compared once (the same contact)",
-            given - loads.len()
-        ));
-    }
     if s.material.viscoelastic.is_some() {
         notes.push(
             "[material.viscoelastic] is not used: the comparison is elastic, at \

@@ -65,14 +65,18 @@ fn a_tile_width_that_is_not_positive_is_refused_by_max_cap_width() {
 fn validate(tag: &str, args: &[&str]) -> (std::process::Output, std::path::PathBuf) {
     let out = std::env::temp_dir().join(format!("tyreroad-vt-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
-    let output = Command::new(env!("CARGO_BIN_EXE_xtask"))
+    (validate_into(&out, args), out)
+}
+
+/// `cargo xtask validate` with `args` and `--out out`.
+fn validate_into(out: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_xtask"))
         .arg("validate")
         .args(args)
         .arg("--out")
-        .arg(&out)
+        .arg(out)
         .output()
-        .expect("xtask runs");
-    (output, out)
+        .expect("xtask runs")
 }
 
 /// A scenario file in the temporary folder: `body` after a material.
@@ -242,19 +246,17 @@ fn an_output_path_that_is_a_file_is_refused_before_the_comparison() {
     let path = scenario_file("out-is-file", &body);
     let file = std::env::temp_dir().join(format!("tyreroad-vt-afile-{}", std::process::id()));
     std::fs::write(&file, "not a folder").expect("file written");
-    let output = Command::new(env!("CARGO_BIN_EXE_xtask"))
-        .args([
-            "validate",
+    let output = validate_into(
+        &file,
+        &[
             "--textures",
             "--no-resolution",
             "--rungs",
             "wilke",
-        ])
-        .args(["--scenario", path.to_str().expect("UTF-8 temporary path")])
-        .arg("--out")
-        .arg(&file)
-        .output()
-        .expect("xtask runs");
+            "--scenario",
+            path.to_str().expect("UTF-8 temporary path"),
+        ],
+    );
     let (stdout, stderr) = (
         String::from_utf8_lossy(&output.stdout),
         String::from_utf8_lossy(&output.stderr),

@@ -124,6 +124,15 @@ pub fn input_error(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())
 }
 
+/// Raises `message` as a Python `UserWarning` (an error when the caller's
+/// warning filters say so).
+pub fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
+    let text = std::ffi::CString::new(message.replace('\0', " "))
+        .map_err(|e| input_error(format!("warning text: {e}")))?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, category.as_any(), &text, 1)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("Error", py.get_type::<Error>())?;

@@ -53,7 +53,6 @@ fn compare_texture<'py>(
     min_area: f64,
     max_cap_width: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut loads = loads;
     if loads.is_empty() {
         return Err(input_error("loads: give at least one load (N)"));
     }
@@ -62,8 +61,6 @@ fn compare_texture<'py>(
             "loads: {bad} is no load (each must be a finite force > 0 N)"
         )));
     }
-    loads.sort_by(f64::total_cmp);
-    loads.dedup();
     let rungs: Vec<Fidelity> = match rungs {
         None => RUNGS.to_vec(),
         Some(names) => names
@@ -141,7 +138,7 @@ fn compare_texture<'py>(
                     row.set_item("bem_seconds", l.bem_seconds)?;
                     row.set_item("warnings", l.warnings.clone())?;
                     for w in &l.warnings {
-                        crate::scenario::warn(py, &format!("{}: {w}", r.fidelity.name()))?;
+                        crate::errors::warn(py, &format!("{}: {w}", r.fidelity.name()))?;
                     }
                 }
                 Err(e) => row.set_item("error", e)?,
@@ -153,7 +150,7 @@ fn compare_texture<'py>(
     }
     out.set_item("rungs", by_rung)?;
     for n in &c.notes {
-        crate::scenario::warn(py, n)?;
+        crate::errors::warn(py, n)?;
     }
     out.set_item("notes", c.notes)?;
     Ok(out)

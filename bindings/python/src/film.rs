@@ -93,7 +93,7 @@ fn analyse_film<'py>(
     // calibration's top: a lower bound, which a user must be told of.
     for (k, p) in d.prints.iter().enumerate() {
         if p.saturated_pixels > 0 {
-            crate::scenario::warn(
+            crate::errors::warn(
                 py,
                 &format!(
                     "print {k}: {} pixels read above the calibration's top (saturated): its \

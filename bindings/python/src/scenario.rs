@@ -288,7 +288,7 @@ fn run_scenario<'py>(
         .into_iter()
         .collect();
     for w in &early {
-        warn(py, w)?;
+        crate::errors::warn(py, w)?;
     }
     let callback_error: Mutex<Option<PyErr>> = Mutex::new(None);
     let result = crate::interrupt::run(py, |cancel: &AtomicBool| {
@@ -329,7 +329,7 @@ fn run_scenario<'py>(
         return Err(e);
     }
     let result = result.or_raise()?;
-    let after = result_warnings(&result);
+    let after = result.warnings();
     let out = match result {
         ScenarioResult::Static(r) => static_dict(py, &r),
         ScenarioResult::Texture(r) => texture_dict(py, *r),
@@ -337,53 +337,13 @@ fn run_scenario<'py>(
         ScenarioResult::History(r) => history_dict(py, &r),
     }?;
     for w in &after {
-        warn(py, w)?;
+        crate::errors::warn(py, w)?;
     }
     out.set_item(
         "warnings",
         early.into_iter().chain(after).collect::<Vec<_>>(),
     )?;
     Ok(out)
-}
-
-/// What `cargo xtask run` prints as `warning:` lines for a result, in the
-/// same words (the warning said before the steps is added by the caller).
-/// Each is also raised as a Python `UserWarning`.
-fn result_warnings(result: &ScenarioResult) -> Vec<String> {
-    let calibration = |t: &TextureSummary| {
-        t.calibration
-            .iter()
-            .flat_map(|c| c.past_tables.warning())
-            .collect::<Vec<_>>()
-    };
-    match result {
-        ScenarioResult::Static(r) => r.warnings.clone(),
-        ScenarioResult::Texture(r) => r
-            .statics
-            .warnings
-            .iter()
-            .chain(&r.texture.warnings)
-            .cloned()
-            .chain(calibration(&r.texture))
-            .collect(),
-        ScenarioResult::Rolling(r) => {
-            let mut w = r.road.warnings().to_vec();
-            if let RoadSummary::Texture(t) = &r.road {
-                w.extend(calibration(t));
-            }
-            w
-        }
-        ScenarioResult::History(r) => r.warnings.clone(),
-    }
-}
-
-/// Raises `message` as a Python `UserWarning` (an error when the caller's
-/// warning filters say so).
-pub(crate) fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
-    let text = std::ffi::CString::new(message.replace('\0', " "))
-        .map_err(|e| input_error(format!("warning text: {e}")))?;
-    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-    PyErr::warn(py, category.as_any(), &text, 1)
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
