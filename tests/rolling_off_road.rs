@@ -157,3 +157,53 @@ fn a_load_no_linear_tread_carries_is_warned_of() {
         "{w:?}"
     );
 }
+
+/// A run whose approach passed the tread's profile at the selection
+/// window's edge says so in the library's warnings (Python's
+/// `warnings` and `cargo xtask run` print the same line), not in the
+/// runner's code alone.
+#[test]
+fn an_approach_past_the_window_s_edge_is_a_warning_of_the_run() {
+    let text = "name = \"sparse\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+                [rolling]\nstart = \"25 mm\"\nend = \"55 mm\"\nstep = \"1 mm\"\nspeed = \"50 km/h\"\n\
+                threads = 1\ncheckpoint = false\n\
+                [rolling.tread]\nkind = \"tyre\"\nradius_x = \"0.3 m\"\nradius_y = \"0.5 m\"\n\
+                length = \"50 mm\"\nwidth = \"40 mm\"\n\
+                [rolling.control]\nload = \"50 N\"\n\
+                [rolling.synthetic_road]\nlength = \"0.1 m\"\nwidth = \"0.05 m\"\ndensity = 40000\n";
+    let run = |text: &str| {
+        Scenario::parse(text, "sparse")
+            .expect("parses")
+            .run(&RunOptions::new("."))
+            .expect("runs")
+    };
+    let result = run(text);
+    let ScenarioResult::Rolling(rolled) = &result else {
+        panic!("not a rolling run");
+    };
+    let clearance = rolled.result.min_clearance();
+    assert!(clearance < 0.0, "{clearance}");
+    let warnings = result.warnings();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("the approach exceeds the tread profile at the selection boundary")),
+        "{warnings:?}"
+    );
+    // A light load stays inside the window: no such warning.
+    let light = run(&text.replace("load = \"50 N\"", "load = \"0.2 N\""));
+    let ScenarioResult::Rolling(rolled) = &light else {
+        panic!("not a rolling run");
+    };
+    assert!(
+        rolled.result.min_clearance() > 0.0,
+        "{}",
+        rolled.result.min_clearance()
+    );
+    assert!(
+        !light
+            .warnings()
+            .iter()
+            .any(|w| w.contains("selection boundary"))
+    );
+}

@@ -61,7 +61,7 @@ pub use rolling::{RoadSummary, RollingRun, Spectra};
 pub(crate) use rolling_fields::run_calibrated_fields;
 pub use rolling_spec::{
     ContactSlopeSpec, ControlSpec, RollingSpec, SensorSpec, SyntheticRoadSpec, TreadSpec,
-    approach_past_window_warning,
+    approach_past_window_warning, clearance_warning,
 };
 pub use rolling_stream::StreamedRun;
 pub use spec::{
@@ -132,7 +132,8 @@ pub enum ScenarioResult {
 impl ScenarioResult {
     /// What makes the run's answer no road's, in the words `cargo xtask run`
     /// prints as `warning:` lines: contacts pressed past their shapes or
-    /// tables, summits inside each other's patch, a footprint off the map.
+    /// tables, summits inside each other's patch, a footprint off the map,
+    /// an approach past the tread's profile at the selection window's edge.
     /// (The warning said before a rolling run's steps is
     /// [`approach_past_window_warning`]; caps that kept their Wilke law are
     /// listed by the calibration summary's `fallbacks`.)
@@ -158,6 +159,7 @@ impl ScenarioResult {
                 if let RoadSummary::Texture(t) = &r.road {
                     w.extend(past_tables(t));
                 }
+                w.extend(clearance_warning(r.result.min_clearance()));
                 w
             }
             Self::History(r) => r.warnings.clone(),

@@ -265,6 +265,19 @@ pub fn approach_past_window_warning(config: &rolling::RollingConfig) -> Option<S
     })
 }
 
+/// The warning a rolling run is given when, at some step, its approach
+/// passed the tread's profile at the edge of the selection window
+/// (`min_clearance` ≤ 0, m: `RollingResult::min_clearance`): contacts
+/// beyond the window were then left out. `None` otherwise.
+pub fn clearance_warning(min_clearance: f64) -> Option<String> {
+    (min_clearance <= 0.0).then(|| {
+        format!(
+            "at some steps the approach exceeds the tread profile at the selection \
+             boundary (clearance {min_clearance:.3e} m): widen the footprint or the margin"
+        )
+    })
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {

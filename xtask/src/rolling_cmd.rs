@@ -212,12 +212,7 @@ fn report_ended(run: &Ended<'_>, mut set: OutputSet, out: &Path) -> Result<Fallb
             out.join("checkpoint").display()
         );
     }
-    if signals.min_clearance <= 0.0 {
-        let warning = format!(
-            "at some steps the approach exceeds the tread profile at the selection \
-             boundary (clearance {:.3e} m): widen the footprint or the margin",
-            signals.min_clearance
-        );
+    if let Some(warning) = tyreroad::scenario::clearance_warning(signals.min_clearance) {
         say!("warning: {warning}");
         warnings.push(warning);
     }
