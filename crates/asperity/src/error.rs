@@ -4,7 +4,7 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GeometryError {
     /// A dimension (radius, angle, depth) is not a finite positive number.
-    #[error("invalid {name}: {value} (must be finite and {requirement})")]
+    #[error("invalid {name}: {value:e} (must be finite and {requirement})")]
     InvalidParameter {
         /// Which parameter.
         name: &'static str,

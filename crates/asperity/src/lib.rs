@@ -33,8 +33,8 @@
 //! # Meshes
 //!
 //! A [`MeshAsperity`] is a closed, outward-oriented triangle mesh (`z` up),
-//! validated when built (closed, manifold, consistently oriented, no
-//! degenerate triangle, positive volume) and kept as a parry `TriMesh`. Its cap
+//! validated when built (closed, one shell, manifold, consistently oriented,
+//! no degenerate triangle, positive volume) and kept as a parry `TriMesh`. Its cap
 //! is computed by clipping every triangle against the plane `z = z_top − δ`;
 //! with `O` any point of the plane and the kept parts fanned into triangles
 //! `(p₀, pᵢ, pᵢ₊₁)`:
@@ -110,6 +110,7 @@ mod mesh;
 mod mesh_build;
 mod run_out;
 mod table;
+mod union_find;
 
 pub use analytic::{Cone, EllipticParaboloid, Sphere, ellipse_perimeter};
 pub use cap::{CapGeometry, CapMeasures};

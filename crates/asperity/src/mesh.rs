@@ -12,6 +12,7 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
 use crate::run_out::{RunOut, past_the_end, with_run_out_ends};
+use crate::union_find::UnionFind;
 use crate::{CapGeometry, CapMeasures, GeometryError, MeshBuffers};
 
 /// One triangle, in coordinates relative to the summit (local `z ≤ 0`).
@@ -218,9 +219,11 @@ impl MeshAsperity {
     /// indices out of range, non-finite coordinates, degenerate (repeated
     /// vertex or zero-area) triangles, non-manifold or inconsistently oriented
     /// edges (an edge used twice in the same direction, e.g. by a flipped
-    /// triangle), open meshes (an edge with no opposite triangle), and meshes
-    /// oriented inwards (negative total volume). Vertices used by no triangle
-    /// are ignored.
+    /// triangle), open meshes (an edge with no opposite triangle), meshes of
+    /// more than one closed shell (triangles connected across edges: two
+    /// bodies, or a body with a cavity, whose volumes would add up), and
+    /// meshes oriented inwards (negative total volume). Vertices used by no
+    /// triangle are ignored.
     pub fn new(vertices: &[[f64; 3]], indices: &[[u32; 3]]) -> Result<Self, GeometryError> {
         Self::build(vertices.to_vec(), indices.to_vec())
     }
@@ -330,6 +333,21 @@ impl MeshAsperity {
             return bad(format!(
                 "the mesh is not closed: {boundary} boundary edge(s), e.g. edge ({i}, {j}) of \
                  triangle {t} has no opposite triangle"
+            ));
+        }
+        // Each shell would count as solid: two overlapping copies twice, a
+        // cavity's wall as a second body.
+        let mut shells = UnionFind::new(indices.len());
+        for (&(i, j), &(t, _)) in &edges {
+            shells.union(t as usize, edges[&(j, i)].0 as usize);
+        }
+        let roots: HashSet<usize> = (0..indices.len()).map(|t| shells.find(t)).collect();
+        if roots.len() > 1 {
+            return bad(format!(
+                "the mesh is made of {} separate closed shells (triangles connected across \
+                 edges): an asperity must be one closed surface, not several bodies or a body \
+                 with a cavity",
+                roots.len()
             ));
         }
 
@@ -743,32 +761,6 @@ fn clip(t: &Tri, depth: f64, on_plane: f64) -> (Acc, [bool; 3]) {
     acc.d_area = t.slope * len;
     acc.d2_area = t.slope * dl;
     (acc, above)
-}
-
-struct UnionFind(Vec<usize>);
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        Self((0..n).collect())
-    }
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
-        }
-        i
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        if a >= self.0.len() || b >= self.0.len() {
-            return;
-        }
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            // Keep the smaller index (the higher triangle) as the root.
-            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            self.0[hi] = lo;
-        }
-    }
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -208,6 +208,8 @@ impl MeshBuffers {
     /// `nx × ny ≥ 1` cells (each split along its diagonal from `(i, j)` to
     /// `(i+1, j+1)`), closed by vertical walls and a flat bottom at
     /// `z = bottom`. Every `f` value must be finite and strictly above `bottom`.
+    /// Refused with [`GeometryError::InvalidParameter`]: a range with a
+    /// non-finite bound or width (`[-1e308, 1e308]`) or not increasing.
     ///
     /// Road textures sampled on a grid become meshes this way.
     pub fn height_field_rect(
@@ -219,11 +221,13 @@ impl MeshBuffers {
         f: impl Fn(f64, f64) -> f64,
     ) -> Result<Self, GeometryError> {
         for (name, r) in [("rectangle x range", x), ("rectangle y range", y)] {
-            if !(r[0].is_finite() && r[1].is_finite() && r[1] > r[0]) {
+            // A width past f64::MAX (bounds ±1e308) would make every vertex NaN.
+            let width = r[1] - r[0];
+            if !(r[0].is_finite() && r[1].is_finite() && width.is_finite() && width > 0.0) {
                 return Err(GeometryError::InvalidParameter {
                     name,
-                    value: r[1] - r[0],
-                    requirement: "> 0 with finite bounds",
+                    value: width,
+                    requirement: "> 0 with finite bounds and a finite width",
                 });
             }
         }
@@ -260,7 +264,8 @@ impl MeshBuffers {
         boundary.extend((0..ny).map(|j| node(nx, j)));
         boundary.extend((1..=nx).rev().map(|i| node(i, ny)));
         boundary.extend((1..=ny).rev().map(|j| node(0, j)));
-        let centre = [0.5 * (x[0] + x[1]), 0.5 * (y[0] + y[1])];
+        // Halves first: `x[0] + x[1]` overflows for bounds near ±f64::MAX.
+        let centre = [0.5 * x[0] + 0.5 * x[1], 0.5 * y[0] + 0.5 * y[1]];
         close_with_wall(&mut vertices, &mut indices, &boundary, bottom, centre);
         Ok(Self { vertices, indices })
     }

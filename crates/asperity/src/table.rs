@@ -124,6 +124,11 @@ impl From<TabulatedCap> for CapTable {
 const ROUNDING: f64 = 1e-12;
 
 impl TabulatedCap {
+    /// The most nodes [`TabulatedCap::default_grid`] makes: 200 resolve a
+    /// cap to 1e-5; more only costs memory (`nodes` near `usize::MAX` used
+    /// to abort on "capacity overflow").
+    pub const MAX_NODES: usize = 1_000_000;
+
     /// A tabulated cap from samples (see [`CapTable`] for the requirements).
     ///
     /// Refused with [`GeometryError::InvalidTable`]: fewer than 2 nodes,
@@ -260,12 +265,29 @@ impl TabulatedCap {
     }
 
     /// Tabulate `geometry` on [`TabulatedCap::default_grid`]`(max_depth, nodes)`.
+    ///
+    /// Refused as [`TabulatedCap::default_grid`] refuses, and with
+    /// [`GeometryError::InvalidTable`] when `max_depth` lies beyond the
+    /// geometry's own [`CapGeometry::max_depth`] (by more than `1e-9` of it):
+    /// the grid would then sample the shape's documented extension (a
+    /// sphere's cylinder below its equator), and at a `max_depth` a million
+    /// times the shape's its first node already lies there, so the table's
+    /// onset is a flat punch instead of the shape. Past its last node a table
+    /// continues into walls of its own.
     pub fn from_geometry(
         geometry: &(impl CapGeometry + ?Sized),
         max_depth: f64,
         nodes: usize,
     ) -> Result<Self, GeometryError> {
-        Self::from_geometry_on_grid(geometry, &Self::default_grid(max_depth, nodes)?)
+        let grid = Self::default_grid(max_depth, nodes)?;
+        let own = geometry.max_depth();
+        if max_depth > own * (1.0 + 1e-9) {
+            return Err(GeometryError::InvalidTable(format!(
+                "max_depth {max_depth:e} m lies beyond the geometry's own max_depth {own:e} m: \
+                 tabulate at most to it"
+            )));
+        }
+        Self::from_geometry_on_grid(geometry, &grid)
     }
 
     /// Tabulate `geometry` at the given depths (strictly increasing, > 0).
@@ -287,6 +309,11 @@ impl TabulatedCap {
     /// nodes): the relative resolution is the same at every scale, which is
     /// what the `δ^(1/2)`, `δ`, `δ²` behaviours of caps near contact onset
     /// need, and below `1e-6·max_depth` the onset power law takes over.
+    ///
+    /// Refused with [`GeometryError::InvalidParameter`]: `max_depth` not
+    /// finite or below `1e6` times the smallest normal float (≈ 2.2e-302 m,
+    /// where the first node `1e-6·max_depth` would lose its precision or
+    /// underflow to 0), and `nodes` outside `2..=`[`TabulatedCap::MAX_NODES`].
     pub fn default_grid(max_depth: f64, nodes: usize) -> Result<Vec<f64>, GeometryError> {
         if !(max_depth.is_finite() && max_depth > 0.0) {
             return Err(GeometryError::InvalidParameter {
@@ -295,11 +322,18 @@ impl TabulatedCap {
                 requirement: "> 0",
             });
         }
-        if nodes < 2 {
+        if !(1e-6 * max_depth >= f64::MIN_POSITIVE) {
+            return Err(GeometryError::InvalidParameter {
+                name: "table max_depth",
+                value: max_depth,
+                requirement: "≥ 2.2251e-302 m: its first node, 1e-6·max_depth, must be a normal float",
+            });
+        }
+        if !(2..=Self::MAX_NODES).contains(&nodes) {
             return Err(GeometryError::InvalidParameter {
                 name: "table nodes",
                 value: nodes as f64,
-                requirement: "≥ 2",
+                requirement: "≥ 2 and ≤ TabulatedCap::MAX_NODES = 1e6",
             });
         }
         let min = 1e-6 * max_depth;

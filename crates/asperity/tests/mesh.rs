@@ -580,3 +580,62 @@ fn past_its_depth_a_mesh_runs_out_without_a_jump() {
         assert_eq!(m.breakpoints()[0], h);
     }
 }
+
+/// The unit-scaled tetrahedron `(0,0,0), (s,0,0), (0,s,0), (0,0,s)` shifted
+/// by `o`, its vertex ids starting at `first`.
+fn tetrahedron(s: f64, o: f64, first: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let v = vec![[o, o, o], [o + s, o, o], [o, o + s, o], [o, o, o + s]];
+    let i = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]];
+    (v, i.iter().map(|t| t.map(|k| k + first)).collect())
+}
+
+/// Regression (adversarial run, adv6 S9): a mesh of two closed shells was
+/// accepted and both counted as solid: the unit tetrahedron twice (volume
+/// 1/3 instead of 1/6), a tetrahedron nested in another (1.5 instead of
+/// 8/6). A mesh of more than one shell is refused, saying how many.
+#[test]
+fn a_mesh_of_several_closed_shells_is_refused() {
+    let (v, i) = tetrahedron(1.0, 0.0, 0);
+    assert!(rel(MeshAsperity::new(&v, &i).unwrap().volume(), 1.0 / 6.0) < 1e-15);
+    for (name, (v2, i2)) in [
+        ("twice", tetrahedron(1.0, 0.0, 4)),
+        ("nested", tetrahedron(1.0, 0.1, 4)),
+        ("apart", tetrahedron(1.0, 5.0, 4)),
+    ] {
+        let (mut vv, mut ii) = tetrahedron(if name == "nested" { 2.0 } else { 1.0 }, 0.0, 0);
+        vv.extend(v2);
+        ii.extend(i2);
+        let msg = invalid(&vv, &ii);
+        assert!(msg.contains("2 separate closed shells"), "{name}: {msg}");
+    }
+    // Three shells are counted as three.
+    let (mut vv, mut ii) = tetrahedron(1.0, 0.0, 0);
+    for k in 1..3 {
+        let (v2, i2) = tetrahedron(1.0, 3.0 * k as f64, 4 * k);
+        vv.extend(v2);
+        ii.extend(i2);
+    }
+    assert!(invalid(&vv, &ii).contains("3 separate closed shells"));
+}
+
+/// Regression (adversarial run, adv6 S10): `height_field_rect` over
+/// `x ∈ [−1e308, 1e308]` returned Ok with NaN vertices (the width overflows).
+/// A range whose width is not finite is refused, naming the range.
+#[test]
+fn a_rectangle_of_infinite_width_is_refused() {
+    let e = MeshBuffers::height_field_rect([-1e308, 1e308], [0.0, 1.0], 2, 2, 0.0, |_, _| 1.0)
+        .unwrap_err();
+    match &e {
+        GeometryError::InvalidParameter { name, value, .. } => {
+            assert_eq!((*name, *value), ("rectangle x range", f64::INFINITY));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        MeshBuffers::height_field_rect([0.0, 1.0], [-1e308, 1e308], 2, 2, 0.0, |_, _| 1.0).is_err()
+    );
+    // Bounds near f64::MAX with a finite width: every vertex finite.
+    let b = MeshBuffers::height_field_rect([1e308, 1.5e308], [0.0, 1.0], 2, 2, 0.0, |_, _| 1.0)
+        .unwrap();
+    assert!(b.vertices.iter().flatten().all(|c| c.is_finite()));
+}

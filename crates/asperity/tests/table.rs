@@ -319,3 +319,68 @@ proptest! {
         prop_assert!((ds - mid.d_base_area).abs() < 1e-3 * (1.0 + mid.d_base_area.abs() + mid.d2_base_area.abs() * d));
     }
 }
+
+/// Regression (adversarial run, adv6 P2): `default_grid(1e-3, usize::MAX)`
+/// aborted on "capacity overflow". The node count is bounded by
+/// `TabulatedCap::MAX_NODES` and refused past it, naming the parameter.
+#[test]
+fn a_node_count_past_the_bound_is_refused_not_a_capacity_overflow() {
+    let ball = Sphere::new(5e-3).unwrap();
+    for n in [usize::MAX, TabulatedCap::MAX_NODES + 1] {
+        for e in [
+            TabulatedCap::default_grid(1e-3, n).unwrap_err(),
+            TabulatedCap::from_geometry(&ball, 1e-3, n).unwrap_err(),
+        ] {
+            match e {
+                GeometryError::InvalidParameter { name, value, .. } => {
+                    assert_eq!((name, value), ("table nodes", n as f64));
+                }
+                other => panic!("{n}: {other:?}"),
+            }
+        }
+    }
+    let grid = TabulatedCap::default_grid(1e-3, TabulatedCap::MAX_NODES).unwrap();
+    assert_eq!(grid.len(), TabulatedCap::MAX_NODES);
+    assert!(grid.windows(2).all(|w| w[0] < w[1]));
+}
+
+/// Regression (adversarial run, adv6 S8): a sphere of R = 5 mm tabulated to
+/// `max_depth = 1e308` was accepted with every node on its cylinder (first
+/// node 1e302 m): `Σ(1 mm) = πR²` instead of 2.83e-5 m². A `max_depth`
+/// beyond the shape's own is refused; up to it, tables build as before.
+#[test]
+fn a_max_depth_beyond_the_shapes_own_is_refused() {
+    let r = 5e-3;
+    let ball = Sphere::new(r).unwrap();
+    for max in [1e308, 1e3, 1.01 * r] {
+        match TabulatedCap::from_geometry(&ball, max, 10) {
+            Err(GeometryError::InvalidTable(m)) => {
+                assert!(m.contains("beyond") && m.contains("5e-3"), "{m}");
+            }
+            other => panic!("{max:e}: {other:?}"),
+        }
+    }
+    let t = TabulatedCap::from_geometry(&ball, r, 200).unwrap();
+    assert!(rel(t.cap(1e-3).base_area, ball.cap(1e-3).base_area) < 1e-6);
+    // Shapes without a limit (a cone) take any finite max_depth.
+    assert!(TabulatedCap::from_geometry(&Cone::new(1.2).unwrap(), 1e3, 50).is_ok());
+}
+
+/// Regression (adversarial run, adv6 U3): `max_depth = 1e-320` was refused
+/// as "depth at node 0 is NaN". It is refused as the `max_depth` given.
+#[test]
+fn a_max_depth_too_small_for_its_grid_is_named() {
+    let ball = Sphere::new(5e-3).unwrap();
+    for max in [1e-320, 5e-324, 1e-303] {
+        let e = TabulatedCap::from_geometry(&ball, max, 10).unwrap_err();
+        match &e {
+            GeometryError::InvalidParameter { name, value, .. } => {
+                assert_eq!((*name, *value), ("table max_depth", max));
+            }
+            other => panic!("{max:e}: {other:?}"),
+        }
+        let m = e.to_string();
+        assert!(m.contains(&format!("{max:e}")) && !m.contains("NaN"), "{m}");
+    }
+    assert!(TabulatedCap::default_grid(1e-300, 10).is_ok());
+}

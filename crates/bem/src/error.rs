@@ -30,7 +30,10 @@ pub enum BemError {
     /// or pressure that is not finite, a negative pressure, or a force
     /// other than the load imposed (inputs past what floating point holds:
     /// a load of 1e300 N, cells of 1e-300 m).
-    #[error("the BEM solve ended on no contact: {0}")]
+    #[error(
+        "the BEM solve ended on numbers no contact has ({0}): are the inputs past what \
+         floating point holds (loads, approaches or cells many decades from the physical)?"
+    )]
     NotPhysical(String),
     /// The FFT library reported an error (a bug: buffer sizes are fixed at
     /// construction).

@@ -186,5 +186,5 @@ mod solver;
 pub use error::BemError;
 pub use grid::{HeightMap, Sphere, nearest_labels, spherical_caps};
 pub use influence::{cells_at_same_fft_cost, love_influence};
-pub use solver::{BemOptions, BemSolution, Control, RegionContact, Solver, solve};
+pub use solver::{BemOptions, BemSolution, Control, MAX_TOLERANCE, RegionContact, Solver, solve};
 pub use tyreroad_core::{Field, Grid, Material, Par};

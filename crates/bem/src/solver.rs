@@ -22,11 +22,17 @@ pub enum Control {
     Approach(f64),
 }
 
+/// The loosest [`BemOptions::tolerance`]: the residual is the worst gap
+/// error over the largest displacement, and at 1 or more the uniform
+/// starting pressure already passes (a sphere "solved" in 0 iterations,
+/// penetrating the tread).
+pub const MAX_TOLERANCE: f64 = 0.1;
+
 /// Options of the solver.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BemOptions {
     /// Relative complementarity residual at which the iteration stops (see
-    /// [`BemSolution::residual`]). Default `1e-8`.
+    /// [`BemSolution::residual`]). Default `1e-8`, at most [`MAX_TOLERANCE`].
     pub tolerance: f64,
     /// Largest number of conjugate-gradient iterations. Default `5000`.
     pub max_iterations: usize,
@@ -54,12 +60,12 @@ impl BemOptions {
     /// Checks the options.
     ///
     /// # Errors
-    /// [`BemError::InvalidInput`] unless `tolerance` is finite and > 0 and
-    /// `max_iterations ≥ 1`.
+    /// [`BemError::InvalidInput`] unless `tolerance` is in `(0,`
+    /// [`MAX_TOLERANCE`]`]` and `max_iterations ≥ 1`.
     pub fn validate(&self) -> Result<(), BemError> {
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+        if !(self.tolerance > 0.0 && self.tolerance <= MAX_TOLERANCE) {
             return Err(BemError::invalid(format!(
-                "tolerance must be finite and > 0, got {}",
+                "tolerance must be in (0, {MAX_TOLERANCE}], got {:e}",
                 self.tolerance
             )));
         }
@@ -141,7 +147,7 @@ impl BemSolution {
     ///
     /// # Errors
     /// [`BemError::InvalidInput`] if `labels.len()` differs from the number of
-    /// cells.
+    /// cells, or a label is not below `max(cells, 2^20)`.
     pub fn regions(&self, labels: &[usize]) -> Result<Vec<RegionContact>, BemError> {
         if labels.len() != self.pressure.len() {
             return Err(BemError::invalid(format!(
@@ -150,7 +156,20 @@ impl BemSolution {
                 self.pressure.len()
             )));
         }
-        let n = labels.iter().max().map_or(0, |m| m + 1);
+        // One entry per label up to the largest: a label past every cell
+        // (and past 2^20 regions) is an index gone wrong, whose table would
+        // not fit in memory (and `usize::MAX + 1` wraps to 0).
+        let most = self.pressure.len().max(1 << 20);
+        let n = match labels.iter().max() {
+            Some(&m) if m >= most => {
+                return Err(BemError::invalid(format!(
+                    "label {m} of a grid of {} cells: labels must be below {most}",
+                    self.pressure.len()
+                )));
+            }
+            Some(&m) => m + 1,
+            None => 0,
+        };
         // Sums: force, count, Σx, Σy, Σx², Σy², Σxy, max p.
         let mut acc = vec![[0.0f64; 8]; n];
         let g = &self.grid;
@@ -697,19 +716,22 @@ fn initial_from_interference(p: &mut [f64], g0: &[f64], d: f64, e_star: f64, cel
 /// arithmetic past floating point's range gets here.
 fn physical(s: BemSolution, control: Control) -> Result<BemSolution, BemError> {
     let what = if !s.force.is_finite() || !s.approach.is_finite() {
-        Some(format!("force {} N, approach {} m", s.force, s.approach))
+        Some(format!(
+            "force {:e} N, approach {:e} m",
+            s.force, s.approach
+        ))
     } else if let Some((c, p)) = s
         .pressure
         .iter()
         .enumerate()
         .find(|(_, p)| !(p.is_finite() && **p >= 0.0))
     {
-        Some(format!("pressure {p} Pa at cell {c}"))
+        Some(format!("pressure {p:e} Pa at cell {c}"))
     } else if let Control::Load(w) = control
         && (s.force - w).abs() > 1e-6 * w
     {
         Some(format!(
-            "force {} N under an imposed load of {w} N",
+            "force {:e} N under an imposed load of {w:e} N",
             s.force
         ))
     } else {

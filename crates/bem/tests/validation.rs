@@ -6,8 +6,8 @@
 use std::f64::consts::PI;
 
 use tyreroad_bem::{
-    BemError, BemOptions, BemSolution, Control, Grid, HeightMap, Material, Par, Solver, Sphere,
-    love_influence, nearest_labels, solve, spherical_caps,
+    BemError, BemOptions, BemSolution, Control, Grid, HeightMap, MAX_TOLERANCE, Material, Par,
+    Solver, Sphere, love_influence, nearest_labels, solve, spherical_caps,
 };
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -643,11 +643,13 @@ fn a_result_no_contact_has_is_an_error_not_a_solution() {
             .unwrap();
         HeightMap::from_fn(grid, |x, y| -(x * x + y * y) / 1e-2).unwrap()
     };
+    // Cells of 1e-300 m (an area of 0 in floating point) are refused by
+    // the grid itself since 2026-11-30.
+    assert!(Grid::new(48, 32, 1e-300, 1e-300).is_err());
     let o = BemOptions::default();
     for (dx, control) in [
         (4e-5, Control::Load(1e300)),
         (4e-5, Control::Approach(1e300)),
-        (1e-300, Control::Load(1.0)),
     ] {
         match solve(&paraboloid(dx), &material, control, &o) {
             Err(BemError::NotPhysical(_) | BemError::NotConverged { .. }) => {}
@@ -656,4 +658,48 @@ fn a_result_no_contact_has_is_an_error_not_a_solution() {
     }
     let s = solve(&paraboloid(4e-5), &material, Control::Load(1.0), &o).unwrap();
     assert!(rel(s.force, 1.0) < 1e-9, "{}", s.force);
+}
+
+/// Regression (adversarial run of the layer crates, 2026-11-30): a
+/// tolerance of 10 returned the uniform starting pressure after 0
+/// iterations, the sphere penetrating the tread; a region label of
+/// `usize::MAX` panicked (`max + 1` wrapped to 0) and one of 1e7 allocated
+/// 640 MB. Both are refused by name; the bounds themselves solve.
+#[test]
+fn a_tolerance_the_start_meets_and_a_label_past_every_cell_are_refused() {
+    let material = Material::new(6.54e6, 0.5).unwrap();
+    let grid = Grid::new(32, 32, 1e-4, 1e-4)
+        .unwrap()
+        .with_origin([-15.5e-4, -15.5e-4])
+        .unwrap();
+    let surface = HeightMap::from_fn(grid.clone(), |x, y| -(x * x + y * y) / 1e-2).unwrap();
+    for tolerance in [10.0, 1.0, 0.2] {
+        let o = BemOptions {
+            tolerance,
+            ..BemOptions::default()
+        };
+        match Solver::new(&grid, &material, &o) {
+            Err(BemError::InvalidInput(m)) => assert!(m.contains("(0, 0.1]"), "{m}"),
+            other => panic!("tolerance {tolerance}: {:?}", other.map(|_| ())),
+        }
+    }
+    let loose = BemOptions {
+        tolerance: MAX_TOLERANCE,
+        ..BemOptions::default()
+    };
+    let s = solve(&surface, &material, Control::Load(1.0), &loose).unwrap();
+    assert!(s.iterations > 0 && rel(s.force, 1.0) < 1e-9);
+    assert!(s.residual <= MAX_TOLERANCE, "{}", s.residual);
+    let mut labels = vec![0usize; 32 * 32];
+    for bad in [usize::MAX, 10_000_000] {
+        labels[5] = bad;
+        match s.regions(&labels) {
+            Err(BemError::InvalidInput(m)) => assert!(m.contains(&format!("label {bad}")), "{m}"),
+            other => panic!("label {bad}: {other:?}"),
+        }
+    }
+    labels[5] = 3;
+    let regions = s.regions(&labels).unwrap();
+    assert_eq!(regions.len(), 4);
+    assert!(rel(regions.iter().map(|r| r.force).sum(), 1.0) < 1e-12);
 }

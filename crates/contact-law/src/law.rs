@@ -92,15 +92,17 @@ impl LocalContact {
         }
     }
 
-    /// Pressure (Pa) at distance `r` (m) from the contact centre; zero outside.
+    /// Pressure (Pa) at distance `r` (m) from the contact centre; zero outside
+    /// (`|r| ≥ a`) and for a NaN `r`. A negative `r` is a signed coordinate
+    /// along a line through the centre: its distance is `|r|`.
     /// The cone's apex value (`r = 0`) is infinite in theory; it is capped at
     /// its value at `r = a·10⁻⁶` so maps stay finite.
     pub fn pressure_at(&self, r: f64) -> f64 {
         let a = self.radius;
-        if !(a > 0.0) || !(r < a) {
+        let s = r.abs() / a;
+        if !(a > 0.0) || !(s < 1.0) {
             return 0.0;
         }
-        let s = r.abs() / a;
         match self.profile {
             PressureProfile::Hertz => 1.5 * self.mean_pressure() * (1.0 - s * s).sqrt(),
             PressureProfile::Cone => self.mean_pressure() * (1.0 / s.max(1e-6)).acosh(),

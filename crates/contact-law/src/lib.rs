@@ -66,10 +66,10 @@ pub enum LawError {
     #[error("invalid material: {0}")]
     InvalidMaterial(#[from] tyreroad_core::CoreError),
     /// The shape constant `c` is not finite and positive.
-    #[error("invalid shape constant c = {0} (must be finite and > 0)")]
+    #[error("invalid shape constant c = {0:e} (must be finite and > 0)")]
     InvalidConstant(f64),
     /// A parameter of a reference law is out of range.
-    #[error("invalid {name}: {value}")]
+    #[error("invalid {name}: {value:e}")]
     InvalidParameter {
         /// Which parameter.
         name: &'static str,

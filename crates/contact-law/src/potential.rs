@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use tyreroad_asperity::{CapGeometry, Cone, EllipticParaboloid, Sphere};
+use tyreroad_asperity::{CapGeometry, CapMeasures, Cone, EllipticParaboloid, Sphere};
 
 use crate::{ContactLaw, LawError, LawPoint, LocalContact, Material, PressureProfile};
 
@@ -38,6 +38,30 @@ pub enum LocalRule {
     /// overestimates Sneddon's radius by 11 %. The two-scale BEM rebuild is the
     /// accurate alternative for real shapes.
     HalfSection,
+}
+
+impl LocalRule {
+    /// The rule if its parameter is one the closed-form laws accept;
+    /// otherwise every local contact would get a negative or NaN radius.
+    pub fn validate(self) -> Result<Self, LawError> {
+        match self {
+            Self::Hertz { radius } if !(radius.is_finite() && radius > 0.0) => {
+                Err(LawError::InvalidParameter {
+                    name: "local rule Hertz radius (m)",
+                    value: radius,
+                })
+            }
+            Self::Sneddon { half_angle }
+                if !(half_angle.is_finite() && half_angle > 0.0 && half_angle < PI / 2.0) =>
+            {
+                Err(LawError::InvalidParameter {
+                    name: "local rule Sneddon half-angle (rad, in (0, π/2))",
+                    value: half_angle,
+                })
+            }
+            _ => Ok(self),
+        }
+    }
 }
 
 /// The interaction-potential law of Wilke and Sameur (docs/theory.md §1):
@@ -125,6 +149,13 @@ const MINIMUM_BRACKET: f64 = 1e-7;
 impl<G: CapGeometry> PotentialLaw<G> {
     /// The law of `geometry` with shape constant `constant` (`c`) and the
     /// local rule `rule`.
+    ///
+    /// Refused: `c` not finite and > 0 ([`LawError::InvalidConstant`]); a
+    /// rule whose parameter [`HertzLaw::new`](crate::HertzLaw::new) or
+    /// [`SneddonLaw::new`](crate::SneddonLaw::new) would refuse, i.e. a
+    /// [`LocalRule::Hertz`] radius not finite and > 0 or a
+    /// [`LocalRule::Sneddon`] half-angle outside `(0, π/2)`
+    /// ([`LawError::InvalidParameter`]).
     pub fn new(
         geometry: G,
         material: Material,
@@ -134,6 +165,7 @@ impl<G: CapGeometry> PotentialLaw<G> {
         if !(constant.is_finite() && constant > 0.0) {
             return Err(LawError::InvalidConstant(constant));
         }
+        rule.validate()?;
         Ok(Self {
             geometry,
             material,
@@ -188,21 +220,65 @@ impl<G: CapGeometry> PotentialLaw<G> {
     }
 
     /// The raw potential law `P = dU/dδ`, `k = dP/dδ`, without ramps.
+    ///
+    /// Where `U` underflows to 0 (caps of a few 1e-130 m on rubber), `P` and
+    /// `k` are 0, as at `δ = 0`.
     pub fn raw(&self, depth: f64) -> LawPoint {
         let cap = self.geometry.cap(depth);
         let (om, sg, gm) = (cap.volume, cap.base_area, cap.perimeter);
         if !(om > 0.0 && sg > 0.0 && gm > 0.0) {
             return LawPoint::default();
         }
-        let u = self.log_potential(om, sg, gm).exp();
+        let log_u = self.log_potential(om, sg, gm);
+        let u = log_u.exp();
+        if u == 0.0 {
+            return LawPoint::default();
+        }
         let (ds, dg) = (cap.d_base_area, cap.d_perimeter);
         let g = 2.0 * sg / om + 0.5 * dg / gm - 1.75 * ds / sg;
         let dg_log = 2.0 * (ds / om - (sg / om).powi(2))
             + 0.5 * (cap.d2_perimeter / gm - (dg / gm).powi(2))
             - 1.75 * (cap.d2_base_area / sg - (ds / sg).powi(2));
-        LawPoint {
+        let point = LawPoint {
             force: u * g,
             stiffness: u * (g * g + dg_log),
+        };
+        // `U` past 1e308 J (a cap pressed absurdly deep) stays infinite: the
+        // solvers refuse a force that is not finite, where a finite 1e165 N
+        // from a 5 mm ball pressed 1e160 m would pass for an answer.
+        if (point.force.is_finite() && point.stiffness.is_finite()) || !u.is_finite() {
+            point
+        } else {
+            Self::scaled_raw(&cap, depth, log_u)
+        }
+    }
+
+    /// [`Self::raw`] where `g² ∼ 1/δ²` overflows (δ below ~1e-154 m on a
+    /// stiff material, `g² + g'` then reads `∞ − ∞`): every ratio scaled by `δ` to order 1 first (`G = δ g`,
+    /// `G' = δ² g'`), the powers of `U` and `δ` taken in logarithms,
+    /// `P = U/δ · G`, `k = U/δ² · (G² + G')`.
+    fn scaled_raw(cap: &CapMeasures, depth: f64, log_u: f64) -> LawPoint {
+        let (om, sg, gm) = (cap.volume, cap.base_area, cap.perimeter);
+        let (ds, dg) = (cap.d_base_area, cap.d_perimeter);
+        // Products first: `ds / om` alone overflows when `Ω` is subnormal.
+        let a = sg * depth / om;
+        let b = dg * depth / gm;
+        let c = ds * depth / sg;
+        let g = 2.0 * a + 0.5 * b - 1.75 * c;
+        let dg_log = 2.0 * (ds * depth / om * depth - a * a)
+            + 0.5 * (cap.d2_perimeter * depth * depth / gm - b * b)
+            - 1.75 * (cap.d2_base_area * depth * depth / sg - c * c);
+        let ln_d = depth.ln();
+        let times = |log_scale: f64, x: f64| {
+            if x == 0.0 {
+                0.0
+            } else {
+                x.signum() * (log_scale + x.abs().ln()).exp()
+            }
+        };
+        LawPoint {
+            force: times(log_u - ln_d, g),
+            stiffness: times(log_u - 2.0 * ln_d, g * g + dg_log),
         }
     }
 

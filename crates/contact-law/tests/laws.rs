@@ -224,3 +224,121 @@ fn a_mesh_law_has_no_jump_at_the_mesh_depth() {
         }
     }
 }
+
+/// Regression (adversarial run, adv6 S5): a `LocalRule` with a negative or
+/// NaN radius, or a half-angle outside (0, π/2), was accepted and gave local
+/// contacts of radius −1.63 mm or NaN. It is refused as `HertzLaw::new` and
+/// `SneddonLaw::new` refuse it; valid rules still build.
+#[test]
+fn a_local_rule_with_a_bad_radius_or_half_angle_is_refused() {
+    let ball = Sphere::new(5e-3).unwrap();
+    for rule in [
+        LocalRule::Hertz { radius: -5e-3 },
+        LocalRule::Hertz { radius: 0.0 },
+        LocalRule::Hertz { radius: f64::NAN },
+        LocalRule::Hertz {
+            radius: f64::INFINITY,
+        },
+        LocalRule::Sneddon { half_angle: 3.0 },
+        LocalRule::Sneddon { half_angle: -0.5 },
+        LocalRule::Sneddon {
+            half_angle: PI / 2.0,
+        },
+        LocalRule::Sneddon {
+            half_angle: f64::NAN,
+        },
+    ] {
+        match PotentialLaw::new(ball, rubber(), C_SPHERE, rule) {
+            Err(e @ LawError::InvalidParameter { .. }) => {
+                let m = e.to_string();
+                assert!(m.contains("local rule"), "{m}");
+            }
+            other => panic!("{rule:?}: {other:?}"),
+        }
+    }
+    let e = PotentialLaw::new(ball, rubber(), C_SPHERE, LocalRule::Hertz { radius: -5e-3 })
+        .unwrap_err();
+    assert_eq!(e.to_string(), "invalid local rule Hertz radius (m): -5e-3");
+    for rule in [
+        LocalRule::Hertz { radius: 5e-3 },
+        LocalRule::Sneddon { half_angle: 1.2 },
+        LocalRule::HalfSection,
+    ] {
+        let law = PotentialLaw::new(ball, rubber(), C_SPHERE, rule).unwrap();
+        let lc = law.local_contact(10.0, 1e-3);
+        assert!(lc.radius.is_finite() && lc.radius > 0.0, "{rule:?}");
+    }
+}
+
+/// Regression (adversarial run, adv6 S6): `pressure_at(−2 mm)` on a 1 mm
+/// contact gave NaN (the guard tested `r < a`, not `|r| < a`). A negative
+/// `r` is a signed coordinate: outside is 0, inside is the pressure at `|r|`.
+#[test]
+fn pressure_at_a_negative_coordinate_is_that_at_its_distance_never_nan() {
+    for profile in [PressureProfile::Hertz, PressureProfile::Cone] {
+        let lc = LocalContact {
+            force: 10.0,
+            radius: 1e-3,
+            profile,
+        };
+        assert_eq!(lc.pressure_at(-2e-3), 0.0, "{profile:?}");
+        assert_eq!(lc.pressure_at(-1e-3), 0.0, "{profile:?}");
+        assert_eq!(lc.pressure_at(f64::NAN), 0.0, "{profile:?}");
+        assert_eq!(lc.pressure_at(f64::NEG_INFINITY), 0.0, "{profile:?}");
+        let (neg, pos) = (lc.pressure_at(-0.5e-3), lc.pressure_at(0.5e-3));
+        assert!(pos > 0.0 && neg == pos, "{profile:?}: {neg} vs {pos}");
+    }
+}
+
+/// Regression (adversarial run, adv6 S7): a sphere's law gave `P = 0` but
+/// `k = NaN` for δ from ~1e-161 to ~1.7e-154 m: `g ∼ 2/δ` squared overflows
+/// and the cap's `Γ''` is huge, so `g² + g'` read `∞ − ∞`. The stiffness is
+/// finite at every small depth: 0 where `U` underflows (rubber), and on a
+/// material stiff enough for `U` to stay representable, Hertz's limit.
+#[test]
+fn stiffness_stays_finite_where_the_log_derivative_squared_overflows() {
+    let depths: Vec<f64> = (0..=200)
+        .map(|k| 10f64.powf(-170.0 + 0.1 * k as f64))
+        .collect();
+    for r in [1e-6, 5e-3, 1.0] {
+        let shapes: Vec<Box<dyn ContactLaw>> = vec![
+            Box::new(PotentialLaw::sphere(Sphere::new(r).unwrap(), rubber())),
+            Box::new(PotentialLaw::paraboloid(
+                EllipticParaboloid::new(r, 0.4 * r).unwrap(),
+                rubber(),
+            )),
+        ];
+        for law in &shapes {
+            for &d in &depths {
+                let p = law.evaluate(d);
+                assert!(
+                    p.force.is_finite() && p.force >= 0.0,
+                    "R = {r:e}, δ = {d:e}: P = {:e}",
+                    p.force
+                );
+                assert!(
+                    p.stiffness.is_finite() && p.stiffness >= 0.0,
+                    "R = {r:e}, δ = {d:e}: k = {:e}",
+                    p.stiffness
+                );
+            }
+        }
+    }
+    // The probe's case: rubber, R = 5 mm, δ = 1e-160: U underflows.
+    let law = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), rubber());
+    assert_eq!(law.evaluate(1e-160), LawPoint::default());
+    // A stiff material keeps U representable there: k is Hertz's.
+    let stiff = Material::new(1e300, 0.0).unwrap();
+    let law = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), stiff)
+        .with_constant(C_HERTZ_EXACT)
+        .unwrap();
+    let hertz = HertzLaw::new(5e-3, stiff).unwrap();
+    for d in [1e-155, 1e-156, 1e-158] {
+        let (p, h) = (law.evaluate(d), hertz.evaluate(d));
+        assert!(
+            rel(p.stiffness, h.stiffness) < 1e-6,
+            "δ = {d:e}: {p:?} vs {h:?}"
+        );
+        assert!(rel(p.force, h.force) < 1e-6, "δ = {d:e}: {p:?} vs {h:?}");
+    }
+}

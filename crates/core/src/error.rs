@@ -5,7 +5,7 @@
 #[non_exhaustive]
 pub enum CoreError {
     /// A scalar input is not finite or out of its range.
-    #[error("invalid {name}: {value} (expected {expected})")]
+    #[error("invalid {name}: {} (expected {expected})", readable(*value))]
     InvalidValue {
         /// Which quantity (e.g. "Young's modulus", "dx").
         name: &'static str,
@@ -28,8 +28,44 @@ pub enum CoreError {
     Fft(String),
 }
 
+/// `x` as `{}` prints it where that is short (`-1`, `0.5`, `6540000`, as
+/// the messages always read), in scientific notation outside
+/// `[1e-4, 1e16)`, where `{}` would print up to hundreds of digits
+/// (`1e-320`, `1.7976931348623157e308`).
+pub fn readable(x: f64) -> String {
+    let magnitude = x.abs();
+    if !x.is_finite() || x == 0.0 || (1e-4..1e16).contains(&magnitude) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 impl From<realfft::FftError> for CoreError {
     fn from(e: realfft::FftError) -> Self {
         Self::Fft(e.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extreme_values_print_in_scientific_notation_not_hundreds_of_digits() {
+        let e = CoreError::InvalidValue {
+            name: "dx",
+            value: 5e-324,
+            expected: "finite and > 0",
+        };
+        assert_eq!(
+            e.to_string(),
+            "invalid dx: 5e-324 (expected finite and > 0)"
+        );
+        assert_eq!(readable(f64::MAX), "1.7976931348623157e308");
+        assert_eq!(readable(-1.0), "-1");
+        assert_eq!(readable(6.54e6), "6540000");
+        assert_eq!(readable(f64::NAN), "NaN");
+        assert_eq!(readable(f64::NEG_INFINITY), "-inf");
     }
 }

@@ -17,7 +17,8 @@ pub const MAX_CELLS: usize = 1 << 30;
 /// at index `j·nx + i` (see [`Grid::index`]).
 ///
 /// Invariants: `1 ≤ nx`, `1 ≤ ny`, `nx·ny ≤` [`MAX_CELLS`]; `dx`, `dy`
-/// finite and > 0; the origin finite.
+/// finite and > 0, the extent `nx·dx × ny·dy` finite and the cell area
+/// `dx·dy` finite and > 0; the origin and the farthest cell centre finite.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     nx: usize,
@@ -34,7 +35,8 @@ impl Grid {
     /// # Errors
     /// [`CoreError::InvalidShape`] if a size is zero or the grid has more
     /// than [`MAX_CELLS`] cells, [`CoreError::InvalidValue`] if a spacing is
-    /// not finite and > 0.
+    /// not finite and > 0, if the extent `nx·dx` or `ny·dy` overflows, or
+    /// if the cell area `dx·dy` under- or overflows.
     pub fn new(nx: usize, ny: usize, dx: f64, dy: f64) -> Result<Self, CoreError> {
         if nx == 0 || ny == 0 {
             return Err(CoreError::InvalidShape {
@@ -50,6 +52,28 @@ impl Grid {
         }
         positive("grid spacing dx (m)", dx)?;
         positive("grid spacing dy (m)", dy)?;
+        // Integrals multiply by the cell area and coordinates reach the
+        // extent: both must be ordinary numbers, not just the spacings.
+        for (name, spacing, n) in [
+            ("grid spacing dx (m)", dx, nx),
+            ("grid spacing dy (m)", dy, ny),
+        ] {
+            if !(n as f64 * spacing).is_finite() {
+                return Err(CoreError::InvalidValue {
+                    name,
+                    value: spacing,
+                    expected: "small enough that the grid's extent (cells × spacing) is finite",
+                });
+            }
+        }
+        let area = dx * dy;
+        if !(area.is_finite() && area > 0.0) {
+            return Err(CoreError::InvalidValue {
+                name: "grid cell area dx·dy (m²)",
+                value: area,
+                expected: "finite and > 0 (the spacings' product under- or overflows)",
+            });
+        }
         Ok(Self {
             nx,
             ny,
@@ -77,10 +101,24 @@ impl Grid {
     /// The same grid with the centre of cell `(0, 0)` at `origin`.
     ///
     /// # Errors
-    /// [`CoreError::InvalidValue`] if `origin` is not finite.
+    /// [`CoreError::InvalidValue`] if `origin` is not finite or puts the
+    /// farthest cell centre `origin + ((nx − 1)·dx, (ny − 1)·dy)` past
+    /// floating point.
     pub fn with_origin(mut self, origin: [f64; 2]) -> Result<Self, CoreError> {
         finite("grid origin x (m)", origin[0])?;
         finite("grid origin y (m)", origin[1])?;
+        for (name, o, n, d) in [
+            ("grid origin x (m)", origin[0], self.nx, self.dx),
+            ("grid origin y (m)", origin[1], self.ny, self.dy),
+        ] {
+            if !(o + (n - 1) as f64 * d).is_finite() {
+                return Err(CoreError::InvalidValue {
+                    name,
+                    value: o,
+                    expected: "such that the farthest cell centre is finite",
+                });
+            }
+        }
         self.origin = origin;
         Ok(self)
     }
@@ -264,7 +302,18 @@ impl Field {
         self.mask.as_ref().is_none_or(|m| m[k])
     }
     /// Value of cell `(i, j)` (NaN if invalid).
+    ///
+    /// # Panics
+    /// If `i ≥ nx` or `j ≥ ny`, like slice indexing (a column past the row
+    /// would otherwise read a cell of the next row); [`Field::get`] returns
+    /// `None` instead.
+    #[inline]
     pub fn at(&self, i: usize, j: usize) -> f64 {
+        let (nx, ny) = (self.grid.nx, self.grid.ny);
+        assert!(
+            i < nx && j < ny,
+            "Field::at({i}, {j}) is outside the {nx} × {ny} grid"
+        );
         self.values[self.grid.index(i, j)]
     }
     /// Value of cell `(i, j)`, `None` if out of range or invalid.
@@ -278,7 +327,12 @@ impl Field {
         }
     }
     /// Row `j` (values along x), NaN at invalid cells.
+    ///
+    /// # Panics
+    /// If `j ≥ ny`, like slice indexing.
     pub fn row(&self, j: usize) -> &[f64] {
+        let (nx, ny) = (self.grid.nx, self.grid.ny);
+        assert!(j < ny, "Field::row({j}) is outside the {nx} × {ny} grid");
         &self.values[j * self.grid.nx..(j + 1) * self.grid.nx]
     }
     /// Number of valid cells.
@@ -393,5 +447,60 @@ mod tests {
         assert_eq!(h.row(1), &[5.0, 5.5, 6.0]);
         assert!(h.mask().is_none());
         assert!((h.rms().expect("values") - (6.25f64 + 1.0 / 6.0).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    #[should_panic(expected = "Field::at(3, 0) is outside the 3 × 2 grid")]
+    fn a_column_past_the_row_panics_instead_of_reading_the_next_row() {
+        let g = Grid::new(3, 2, 1.0, 1.0).expect("valid");
+        let f = Field::new(g, vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]).expect("finite");
+        assert_eq!(f.at(2, 1), 5.0);
+        // Row-major index 3 is cell (0, 1): `at` must not read it for (3, 0).
+        let _ = f.at(3, 0);
+    }
+
+    #[test]
+    #[should_panic(expected = "Field::at(5, 0) is outside the 3 × 1 grid")]
+    fn a_cell_past_the_grid_panics_with_the_index_and_the_size() {
+        let _ = Field::zeros(Grid::new(3, 1, 1.0, 1.0).expect("valid")).at(5, 0);
+    }
+
+    #[test]
+    #[should_panic(expected = "Field::row(7) is outside the 3 × 1 grid")]
+    fn a_row_past_the_grid_panics_with_the_index_and_the_size() {
+        let _ = Field::zeros(Grid::new(3, 1, 1.0, 1.0).expect("valid")).row(7);
+    }
+
+    #[test]
+    fn a_grid_whose_extent_or_cell_area_leaves_floating_point_is_refused() {
+        // 3 × 1e308 m overflows the extent (and x(2) of the centred grid).
+        let e = Grid::centered(3, 3, 1e308, 1e308).expect_err("infinite extent");
+        assert!(
+            matches!(
+                e,
+                CoreError::InvalidValue {
+                    name: "grid spacing dx (m)",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().contains("extent"), "{e}");
+        let e = Grid::new(3, 3, f64::MAX, 1.0).expect_err("infinite extent");
+        assert!(e.to_string().contains("1.7976931348623157e308"), "{e}");
+        // 5e-324² underflows to a zero cell area.
+        let e = Grid::centered(3, 3, 5e-324, 5e-324).expect_err("zero cell area");
+        assert!(
+            matches!(e, CoreError::InvalidValue { name: "grid cell area dx·dy (m²)", value, .. } if value == 0.0),
+            "{e}"
+        );
+        // An origin that pushes the last centre past f64::MAX.
+        let e = Grid::new(2, 1, 5e307, 1.0)
+            .and_then(|g| g.with_origin([1.5e308, 0.0]))
+            .expect_err("last centre overflows");
+        assert!(e.to_string().contains("farthest cell centre"), "{e}");
+        // Large but representable grids stay valid.
+        let g = Grid::centered(3, 3, 1e307, 1e-150).expect("finite extent and area");
+        assert!(g.x(2).is_finite() && g.cell_area() > 0.0);
     }
 }

@@ -2,12 +2,15 @@
 //! none should define twice. It depends on no other tyreroad crate.
 //!
 //! SI units throughout (m, Pa, N, Hz). Nothing panics on user input: every
-//! check returns a [`CoreError`] naming the invalid quantity.
+//! check returns a [`CoreError`] naming the invalid quantity (the indexing
+//! accessors [`Field::at`] and [`Field::row`] panic on an index outside the
+//! grid, as slice indexing does; [`Field::get`] does not).
 //!
 //! # Material ([`Material`])
 //!
 //! The linear elastic, isotropic half-space: Young's modulus `E > 0`,
-//! Poisson's ratio `−1 < ν ≤ 0.5`, both finite. Plane-strain (reduced)
+//! Poisson's ratio `−1 < ν ≤ 0.5`, both finite, and the derived `E*` and
+//! `1/(π E*)` finite and positive. Plane-strain (reduced)
 //! modulus `E* = E / (1 − ν²)`; Boussinesq's surface compliance
 //! `(1 − ν²)/(π E) = 1/(π E*)`: a point force `F` displaces the surface at
 //! distance `r` by `F / (π E* r)`.
@@ -17,7 +20,8 @@
 //! `nx × ny` cells of `dx × dy`, cell `(i, j)` centred at
 //! `origin + (i·dx, j·dy)` (y up), values stored row-major at `j·nx + i`.
 //! Invariants: sizes ≥ 1, at most [`MAX_CELLS`] cells, spacings finite and
-//! positive, origin finite; a field has one value per cell, finite where
+//! positive with a finite extent and a finite, positive cell area, origin
+//! and farthest cell centre finite; a field has one value per cell, finite where
 //! valid, NaN where its optional mask says invalid.
 //!
 //! # Spectra ([`spectrum`])
@@ -77,7 +81,7 @@ pub mod pchip;
 pub mod spectrum;
 pub mod validate;
 
-pub use error::CoreError;
+pub use error::{CoreError, readable};
 pub use grid::{Field, Grid, MAX_CELLS};
 pub use material::Material;
 pub use par::{Par, is_parallel, map_at, run_at, thread_count};

@@ -131,6 +131,14 @@ impl Psd {
 ///
 /// so that `Σ_m S(f_m) df = Σ_j (w_j x_j)² / Σ_j w_j²`, the window-weighted
 /// mean square (Parseval), averaged over segments.
+///
+/// # Errors
+/// [`CoreError::InvalidShape`] for fewer than [`MIN_SPECTRUM_SAMPLES`]
+/// samples or a shorter segment; [`CoreError::InvalidValue`] for a
+/// non-finite sample, a sample rate that is not finite and > 0 or so
+/// extreme that `1/(fs Σw²)` or `df = fs/L` leaves the normal floats
+/// (about `1e-300 < fs < 1e300`), or samples so large that the density
+/// overflows (`|x|` beyond about 1e150).
 pub fn welch(
     signal: &[f64],
     sample_rate: f64,
@@ -155,6 +163,16 @@ pub fn welch(
         .map(|j| 0.5 * (1.0 - (2.0 * PI * j as f64 / l as f64).cos()))
         .collect();
     let power: f64 = window.iter().map(|w| w * w).sum();
+    let scale = 1.0 / (sample_rate * power * segments as f64);
+    let df = sample_rate / l as f64;
+    if !(scale.is_normal() && df.is_normal()) {
+        return Err(CoreError::InvalidValue {
+            name: "sample rate (Hz)",
+            value: sample_rate,
+            expected: "such that 1/(fs Σw²) and the bin width fs/L are normal floats \
+                       (about 1e-300 < fs < 1e300)",
+        });
+    }
     let mut planner = RealFftPlanner::<f64>::new();
     let fft = planner.plan_fft_forward(l);
     let mut input = fft.make_input_vec();
@@ -176,7 +194,6 @@ pub fn welch(
         }
     }
     let last = density.len() - 1;
-    let scale = 1.0 / (sample_rate * power * segments as f64);
     for (m, d) in density.iter_mut().enumerate() {
         let one_sided = if m == 0 || (m == last && l.is_multiple_of(2)) {
             1.0
@@ -185,7 +202,9 @@ pub fn welch(
         };
         *d *= one_sided * scale;
     }
-    let df = sample_rate / l as f64;
+    if density.iter().any(|d| !d.is_finite()) {
+        return Err(amplitude_error(signal));
+    }
     Ok(Psd {
         frequencies: (0..density.len()).map(|m| m as f64 * df).collect(),
         density,
@@ -277,7 +296,8 @@ pub fn third_octave(
 /// # Errors
 /// [`CoreError::InvalidShape`] for fewer than [`MIN_SPECTRUM_SAMPLES`]
 /// samples, [`CoreError::InvalidValue`] for a non-finite sample or a
-/// non-positive sample rate or reference.
+/// non-positive sample rate or reference, samples so large that `Σ x²`
+/// overflows, or a sample rate so small that a band's power does.
 pub fn transient_band_levels(
     signal: &[f64],
     sample_rate: f64,
@@ -306,8 +326,12 @@ pub fn transient_band_levels(
                 .sum()
         })
         .collect();
+    // r_0 = Σ x² bounds every lag (Cauchy–Schwarz).
+    if !lags[0].is_finite() {
+        return Err(amplitude_error(signal));
+    }
     let fs = sample_rate;
-    Ok(bands
+    bands
         .iter()
         .map(|&band| {
             let (a, b) = (band.lower.min(0.5 * fs), band.upper.min(0.5 * fs));
@@ -321,14 +345,23 @@ pub fn transient_band_levels(
                 })
                 .sum();
             let integral = lags[0] * (b - a).max(0.0) + 2.0 * oscillating;
-            let power = (2.0 * integral / (n as f64 * fs)).max(0.0);
-            BandLevel {
+            let raw = 2.0 * integral / (n as f64 * fs);
+            // The clamp below would read a NaN as silence.
+            if !raw.is_finite() {
+                return Err(CoreError::InvalidValue {
+                    name: "sample rate (Hz)",
+                    value: sample_rate,
+                    expected: "large enough that the band powers 2∫|X|²/(N fs) are finite",
+                });
+            }
+            let power = raw.max(0.0);
+            Ok(BandLevel {
                 band,
                 power,
                 level_db: 10.0 * (power / (reference * reference)).log10(),
-            }
+            })
         })
-        .collect())
+        .collect()
 }
 
 /// The one-sided periodogram of `samples` (no window, no mean removal):
@@ -339,7 +372,8 @@ pub fn transient_band_levels(
 ///
 /// # Errors
 /// [`CoreError::InvalidShape`] for fewer than 2 samples,
-/// [`CoreError::InvalidValue`] for a non-finite sample.
+/// [`CoreError::InvalidValue`] for a non-finite sample or samples so large
+/// that `|X_k|²` overflows (`|x|` beyond about 1e150).
 pub fn periodogram(samples: &[f64]) -> Result<Vec<f64>, CoreError> {
     let n = samples.len();
     if n < 2 {
@@ -354,7 +388,7 @@ pub fn periodogram(samples: &[f64]) -> Result<Vec<f64>, CoreError> {
     let mut spectrum = fft.make_output_vec();
     fft.process(&mut input, &mut spectrum)?;
     let nn = (n * n) as f64;
-    Ok(spectrum
+    let power: Vec<f64> = spectrum
         .iter()
         .enumerate()
         .map(|(k, c)| {
@@ -364,7 +398,20 @@ pub fn periodogram(samples: &[f64]) -> Result<Vec<f64>, CoreError> {
                 2.0 * c.norm_sqr() / nn
             }
         })
-        .collect())
+        .collect();
+    if power.iter().any(|p| !p.is_finite()) {
+        return Err(amplitude_error(samples));
+    }
+    Ok(power)
+}
+
+/// The error of samples whose power overflows, naming the largest one.
+fn amplitude_error(samples: &[f64]) -> CoreError {
+    CoreError::InvalidValue {
+        name: "signal amplitude (largest |sample|)",
+        value: samples.iter().fold(0.0, |m: f64, v| m.max(v.abs())),
+        expected: "small enough that its power is finite (below about 1e150)",
+    }
 }
 
 fn check_finite_samples(samples: &[f64]) -> Result<(), CoreError> {
@@ -567,6 +614,60 @@ mod tests {
         assert!(welch(&[1.0; 8], 0.0, 4, true).is_err());
         let psd = welch(&[1.0, 2.0, 3.0, 4.0], 1.0, 4, false).ok();
         assert!(psd.is_some_and(|p| band_levels(&p, &[], 0.0).is_err()));
+    }
+
+    /// Regression (adversarial run): samples of amplitude 1e200 or a sample
+    /// rate of 1e-320 gave an infinite density as Ok, and the transient's
+    /// overflowing powers read as 0.
+    #[test]
+    fn a_spectrum_that_overflows_is_refused_naming_the_amplitude_or_the_rate() {
+        let loud: Vec<f64> = (0..64).map(|i| 1e200 * (i as f64).sin()).collect();
+        let quiet: Vec<f64> = (0..64).map(|i| (i as f64).sin()).collect();
+        let is_amplitude = |e: CoreError| {
+            let text = e.to_string();
+            assert!(text.contains("1e200") || text.contains("e199"), "{text}");
+            matches!(
+                e,
+                CoreError::InvalidValue {
+                    name: "signal amplitude (largest |sample|)",
+                    ..
+                }
+            )
+        };
+        assert!(is_amplitude(
+            welch(&loud, 100.0, 16, true).expect_err("overflow")
+        ));
+        assert!(is_amplitude(
+            third_octave(&loud, 100.0, 1.0, None).expect_err("overflow")
+        ));
+        assert!(is_amplitude(periodogram(&loud).expect_err("overflow")));
+        let bands = bands_below(50.0);
+        assert!(is_amplitude(
+            transient_band_levels(&loud, 100.0, &bands, 1.0).expect_err("overflow")
+        ));
+        for fs in [1e-320, 1e308] {
+            let e = welch(&quiet, fs, 16, true).expect_err("extreme sample rate");
+            assert!(
+                matches!(
+                    e,
+                    CoreError::InvalidValue {
+                        name: "sample rate (Hz)",
+                        ..
+                    }
+                ),
+                "{e}"
+            );
+        }
+        // 1e-200 amplitude and ordinary rates keep working.
+        let faint: Vec<f64> = quiet.iter().map(|v| 1e-100 * v).collect();
+        let psd = welch(&faint, 100.0, 16, true).expect("finite");
+        assert!(psd.total_power() > 0.0 && psd.total_power().is_finite());
+        assert!(
+            periodogram(&faint)
+                .expect("finite")
+                .iter()
+                .all(|p| p.is_finite())
+        );
     }
 
     /// A segment asked longer than the signal is the signal: the band

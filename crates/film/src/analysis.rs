@@ -284,12 +284,22 @@ pub fn otsu(hist: &[u64]) -> Option<f64> {
 /// Connected components of `mask` (row-major `width × height`). Returns the
 /// per-pixel labels (0 = not in mask, components numbered 1.. in raster
 /// order of their first pixel) and the number of components.
+///
+/// Errors: a mask whose length is not `width × height`
+/// ([`FilmError::MaskSize`]).
 pub fn connected_components(
     mask: &[bool],
     width: usize,
     height: usize,
     connectivity: Connectivity,
-) -> (Vec<u32>, usize) {
+) -> Result<(Vec<u32>, usize)> {
+    if width.checked_mul(height) != Some(mask.len()) {
+        return Err(FilmError::MaskSize {
+            len: mask.len(),
+            width,
+            height,
+        });
+    }
     let mut labels = vec![0u32; mask.len()];
     let mut parent: Vec<u32> = vec![0];
     fn find(parent: &mut [u32], mut x: u32) -> u32 {
@@ -363,7 +373,7 @@ pub fn connected_components(
             *l = compact[r as usize];
         }
     }
-    (labels, n as usize)
+    Ok((labels, n as usize))
 }
 
 #[derive(Clone, Copy, Default)]
@@ -421,7 +431,11 @@ impl PressureLut {
 /// Steps: threshold (see [`Threshold`]); connected components
 /// ([`connected_components`]); components below `min_pixels` dropped; per
 /// print, the measures of [`Print`]. Errors: no pixel size, an invalid
-/// threshold, no print at all.
+/// threshold (a grey outside `(0, 1]`, a negative or non-finite density),
+/// Otsu's threshold on a uniform scan ([`FilmError::UniformScan`]), a scan
+/// with no pixel lighter than the calibration's floor under
+/// [`Threshold::MidwayToFloor`] (nothing to read as background), no print
+/// at all.
 pub fn analyse(
     scan: &Scan,
     response: &FilmResponse,
@@ -437,12 +451,23 @@ pub fn analyse(
     let levels = if scan.bit_depth() == 8 { 256 } else { 1024 };
     let hist = histogram(grey, levels);
     let threshold = match options.threshold {
-        Threshold::Otsu => otsu(&hist).ok_or(FilmError::NoPrints {
-            threshold: f64::NAN,
-            reacted: 0,
+        Threshold::Otsu => otsu(&hist).ok_or_else(|| FilmError::UniformScan {
+            grey: grey.iter().map(|&g| g as f64).sum::<f64>() / grey.len() as f64,
+            pixels: grey.len(),
         })?,
         Threshold::Grey(g) => g,
-        Threshold::Density(d) => response.scanner.grey(d),
+        Threshold::Density(d) => {
+            // Checked as the density given: its grey (10 for a density of
+            // −1) would name a value the user never typed.
+            if !(d.is_finite() && d >= 0.0) {
+                return Err(FilmError::InvalidParameter {
+                    name: "density threshold",
+                    value: d,
+                    requirement: "finite and ≥ 0 (density 0 is the scanner's white)",
+                });
+            }
+            response.scanner.grey(d)
+        }
         Threshold::MidwayToFloor => {
             // Background: the histogram mode among greys lighter than the
             // floor (unreacted film is lighter than any calibrated print).
@@ -455,10 +480,15 @@ pub fn analyse(
                 .max_by_key(|&(_, &c)| c)
                 .map(|(k, _)| (k + k0) as f64 / (levels - 1) as f64);
             let Some(mode) = mode else {
+                // The scan is at fault as often as the calibration (one
+                // pixel, a scan all print): name the scan's lightest grey.
                 return Err(FilmError::InvalidParameter {
-                    name: "grey floor of the calibration",
-                    value: floor,
-                    requirement: "below the background: no pixel is lighter than the faintest calibrated print",
+                    name: "lightest grey of the scan",
+                    value: crate::error::widen(grey.iter().fold(0.0f32, |a, &g| a.max(g))),
+                    requirement: "above the grey of the calibration's lowest pressure: no pixel \
+                        shows unreacted film to take as background (a scan all print, or a \
+                        calibration whose faintest print is lighter than this film); give a grey \
+                        or density threshold",
                 });
             };
             0.5 * (mode + floor)
@@ -474,7 +504,7 @@ pub fn analyse(
     let t = threshold as f32;
     let mask: Vec<bool> = grey.iter().map(|&g| g < t).collect();
     let reacted = mask.iter().filter(|&&m| m).count();
-    let (mut labels, n) = connected_components(&mask, w, h, options.connectivity);
+    let (mut labels, n) = connected_components(&mask, w, h, options.connectivity)?;
     drop(mask);
 
     // Background: median grey of unreacted pixels, from the histogram.

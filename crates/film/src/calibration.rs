@@ -213,6 +213,12 @@ impl Response {
 /// Highest calibration pressure a film can have recorded (Pa).
 pub const MAX_FILM_PRESSURE: f64 = 1e9;
 
+/// Lowest value the highest pressure of a calibration may take (Pa): the
+/// most sensitive films (Prescale 5LW) start near 6 kPa, so a calibration
+/// topping out below 1 kPa has its pressures in the wrong unit (MPa typed
+/// as Pa).
+pub const MIN_FILM_TOP_PRESSURE: f64 = 1e3;
+
 /// Highest optical density of a calibration (a film's darkest print is near 3).
 pub const MAX_DENSITY: f64 = 6.0;
 
@@ -230,6 +236,11 @@ impl Calibration {
     /// order. The pairs are sorted by pressure; the response must then vary
     /// strictly monotonically (either direction), else
     /// [`FilmError::NonMonotoneCalibration`].
+    ///
+    /// Refused as [`FilmError::InvalidCalibration`]: a non-finite value, a
+    /// negative pressure, one above 1e9 Pa, a highest pressure below 1e3 Pa
+    /// (MPa typed as Pa: no film reacts below about 6 kPa), a grey outside
+    /// `[0, 1]` or a density outside `[0, 6]`.
     pub fn from_pairs(response: Response, pairs: &[(f64, f64)]) -> Result<Self> {
         let mut v: Vec<(f64, f64)> = pairs.iter().map(|&(r, p)| (p, r)).collect();
         if v.iter().any(|(p, r)| !p.is_finite() || !r.is_finite()) {
@@ -253,6 +264,16 @@ impl Calibration {
                 "pressure {p:e} Pa (at {} {r}): no pressure film records more than \
                  {MAX_FILM_PRESSURE:e} Pa (pressure_pa or pressure_mpa?)",
                 response.name()
+            )));
+        }
+        // Symmetric to the bound above: even the most sensitive film needs
+        // kilopascals, so a curve whose every point is below 1 kPa is in MPa.
+        let top = v.iter().map(|&(p, _)| p).fold(0.0, f64::max);
+        if !v.is_empty() && top < MIN_FILM_TOP_PRESSURE {
+            return Err(FilmError::InvalidCalibration(format!(
+                "highest pressure {top:e} Pa: no pressure film reacts below about 6e3 Pa, so a \
+                 calibration must reach at least {MIN_FILM_TOP_PRESSURE:e} Pa; these values look \
+                 like MPa given as Pa (pressure_pa or pressure_mpa?)"
             )));
         }
         let response_range = match response {
@@ -625,10 +646,17 @@ impl Scanner {
 
     /// Density of grey level `g`: `−log10((g − black)/(white − black))`;
     /// `+∞` at or below the black reference. Grey levels above white give a
-    /// negative density.
+    /// negative density. A NaN grey has a NaN density (not `+∞`: it is no
+    /// reading, not the darkest one).
     pub fn density(&self, g: f64) -> f64 {
         let r = (g - self.black) / (self.white - self.black);
-        if r > 0.0 { -r.log10() } else { f64::INFINITY }
+        if r > 0.0 {
+            -r.log10()
+        } else if r.is_nan() {
+            f64::NAN
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// Grey level of density `d`: `black + (white − black)·10^(−d)`.
@@ -672,7 +700,10 @@ impl FilmResponse {
         }
     }
 
-    /// The pressure read from grey level `g`, flagged out of range.
+    /// The pressure read from grey level `g`, flagged out of range. A NaN
+    /// grey is [`Calibrated::BelowRange`], as a NaN response is for
+    /// [`Calibration::pressure`]: never a pressure, and never read as a
+    /// saturated print. (Scans refuse NaN greys on construction.)
     pub fn pressure_of_grey(&self, g: f64) -> Calibrated {
         self.calibration.pressure(self.response_of_grey(g))
     }

@@ -35,7 +35,7 @@ pub enum FilmError {
     #[error("invalid calibration: {0}")]
     InvalidCalibration(String),
     /// A parameter is out of its domain.
-    #[error("invalid {name}: {value} (must be {requirement})")]
+    #[error("invalid {name}: {} (must be {requirement})", readable(*.value))]
     InvalidParameter {
         /// Which parameter.
         name: &'static str,
@@ -48,6 +48,32 @@ pub enum FilmError {
     /// non-finite pressure, pixels that are not square).
     #[error("invalid pressure map: {0}")]
     InvalidPressureMap(String),
+    /// A mask whose length is not `width × height`.
+    #[error(
+        "mask of {len} values for a {width} × {height} image (a row-major mask holds \
+         width × height values)"
+    )]
+    MaskSize {
+        /// Values in the mask.
+        len: usize,
+        /// Image width, px.
+        width: usize,
+        /// Image height, px.
+        height: usize,
+    },
+    /// Otsu's threshold asked of a scan whose greys all fall in one
+    /// histogram bin: there is nothing to split.
+    #[error(
+        "Otsu's threshold is undefined on this scan: all its {pixels} pixels have grey \
+         {grey:.4} (to the histogram's resolution), so nothing separates prints from \
+         background; give a grey or density threshold"
+    )]
+    UniformScan {
+        /// The scan's one grey level (the mean of its pixels).
+        grey: f64,
+        /// Pixels of the scan.
+        pixels: usize,
+    },
     /// A file could not be read or written.
     #[error("cannot access {path}: {reason}")]
     Io {
@@ -154,6 +180,14 @@ pub enum FilmError {
     /// The layout does not fit the prints (or the model rows).
     #[error("layout mismatch: {0}")]
     LayoutMismatch(String),
+}
+
+pub(crate) use tyreroad_core::readable;
+
+/// A stored `f32` grey as the `f64` its shortest decimal names: `0.4f32`
+/// reports as 0.4, not 0.4000000059604645.
+pub(crate) fn widen(g: f32) -> f64 {
+    format!("{g}").parse().unwrap_or(g as f64)
 }
 
 /// `100 · part / whole`, 0 for an empty whole.

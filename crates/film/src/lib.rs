@@ -68,6 +68,8 @@
 //!
 //! - calibration inverse: `p(r(p)) = p` to round-off inside the range;
 //! - no value outside a calibration's range is turned into a pressure;
+//! - a [`Scan`] holds finite greys in `[0, 1]` and, when known, a pixel
+//!   size of [`MIN_PIXEL_SIZE`] to [`MAX_PIXEL_SIZE`] (10 nm to 10 mm);
 //! - ellipses have `semi_major ≥ semi_minor ≥ 0`, orientation in `(−π/2, π/2]`;
 //! - user input (files, CSVs, layouts, calibrations) never panics: every
 //!   failure is a [`FilmError`] naming the problem;
@@ -141,7 +143,7 @@ pub use compare::{
 };
 pub use error::{FilmError, Result};
 pub use layout::{Frame, Indenter, Layout, Match, Matching, Origin, detect_grid, match_layout};
-pub use scan::{Channel, Scan};
+pub use scan::{Channel, MAX_PIXEL_SIZE, MIN_PIXEL_SIZE, Scan};
 pub use synthetic::{
     HertzPrint, RenderOptions, SyntheticLoad, SyntheticOptions, add_hertz, covering_grid,
     hertz_pressure_map, paper_hertz_rows, pixel_grid, render, synthetic_round_trip,

@@ -8,6 +8,29 @@ use image::{DynamicImage, ImageFormat};
 
 use crate::error::{FilmError, Result, check_positive};
 
+/// Smallest pixel size of a scan, m (10 nm: below the optical resolution of
+/// any scanner or microscope). Smaller, the pixel area underflows and
+/// the unit is likely wrong.
+pub const MIN_PIXEL_SIZE: f64 = 1e-8;
+
+/// Largest pixel size of a scan, m (10 mm, 2.54 dpi: a print a few
+/// millimetres wide would not fill one pixel). Larger, areas and forces
+/// grow absurd (to infinity at 1e300 m) and the unit is likely wrong.
+pub const MAX_PIXEL_SIZE: f64 = 1e-2;
+
+/// The pixel size if it lies in [`MIN_PIXEL_SIZE`]–[`MAX_PIXEL_SIZE`].
+fn check_pixel_size(pixel_size: f64) -> Result<f64> {
+    check_positive("pixel size", pixel_size)?;
+    if !(MIN_PIXEL_SIZE..=MAX_PIXEL_SIZE).contains(&pixel_size) {
+        return Err(FilmError::InvalidParameter {
+            name: "pixel size",
+            value: pixel_size,
+            requirement: "between 1e-8 m and 1e-2 m (10 nm to 10 mm): in metres, not µm or mm",
+        });
+    }
+    Ok(pixel_size)
+}
+
 /// Which channel of a colour scan is analysed.
 ///
 /// Prescale prints are magenta. A magenta dye absorbs green light (roughly
@@ -48,6 +71,13 @@ impl Scan {
     /// A scan from normalised grey levels (row-major, `width × height`
     /// values). `bit_depth` is the quantisation of the source (8, 16, or 32
     /// for floating point), used only for reporting and histogram bins.
+    ///
+    /// Errors: a length that is not `width × height`, or a grey level that
+    /// is not finite or lies outside `[0, 1]` ([`FilmError::Image`], naming
+    /// the pixel: a grey of −1 would read as a print darker than black, a
+    /// saturated one); a bit depth outside 1–32, or a pixel size outside
+    /// [`MIN_PIXEL_SIZE`]–[`MAX_PIXEL_SIZE`]
+    /// ([`FilmError::InvalidParameter`]).
     pub fn from_grey(
         width: usize,
         height: usize,
@@ -55,14 +85,34 @@ impl Scan {
         pixel_size: Option<f64>,
         bit_depth: u8,
     ) -> Result<Self> {
-        if width == 0 || height == 0 || grey.len() != width * height {
-            return Err(FilmError::Image {
-                path: PathBuf::from("<memory>"),
-                message: format!("{} grey values for a {width} × {height} image", grey.len()),
+        let image_err = |message: String| FilmError::Image {
+            path: PathBuf::from("<memory>"),
+            message,
+        };
+        if width == 0 || height == 0 || width.checked_mul(height) != Some(grey.len()) {
+            return Err(image_err(format!(
+                "{} grey values for a {width} × {height} image",
+                grey.len()
+            )));
+        }
+        if let Some(k) = grey.iter().position(|g| !(0.0..=1.0).contains(g)) {
+            return Err(image_err(format!(
+                "grey level {} at pixel (col {}, row {}): normalised grey levels are finite \
+                 and in [0, 1] (divide 8-bit values by 255, 16-bit ones by 65535)",
+                crate::error::readable(crate::error::widen(grey[k])),
+                k % width,
+                k / width
+            )));
+        }
+        if !(1..=32).contains(&bit_depth) {
+            return Err(FilmError::InvalidParameter {
+                name: "bit depth",
+                value: bit_depth as f64,
+                requirement: "1 to 32 bits (8 or 16 for integer scans, 32 for floating point)",
             });
         }
         if let Some(s) = pixel_size {
-            check_positive("pixel size", s)?;
+            check_pixel_size(s)?;
         }
         Ok(Self {
             width,
@@ -107,6 +157,10 @@ impl Scan {
         let img = image::load_from_memory_with_format(bytes, format)
             .map_err(|e| img_err(decode_message(&e)))?;
         let (grey, bit_depth) = extract_channel(&img, channel).map_err(img_err)?;
+        // Software that knows no resolution writes 1 dpi or 1 pixel per
+        // metre: read as unknown, so the user is asked for the DPI instead
+        // of the file being refused for a pixel size they would override.
+        let pixel_size = pixel_size.filter(|&s| check_pixel_size(s).is_ok());
         let (w, h) = (img.width() as usize, img.height() as usize);
         Self::from_grey(w, h, grey, pixel_size, bit_depth).map_err(|e| match e {
             FilmError::Image { message, .. } => img_err(message),
@@ -114,17 +168,28 @@ impl Scan {
         })
     }
 
-    /// Sets the pixel size (m).
+    /// Sets the pixel size (m), between [`MIN_PIXEL_SIZE`] and
+    /// [`MAX_PIXEL_SIZE`] (else [`FilmError::InvalidParameter`]).
     pub fn with_pixel_size(mut self, pixel_size: f64) -> Result<Self> {
-        self.pixel_size = Some(check_positive("pixel size", pixel_size)?);
+        self.pixel_size = Some(check_pixel_size(pixel_size)?);
         Ok(self)
     }
 
     /// Sets the pixel size from the scan resolution in dots per inch
-    /// (`pixel = 0.0254 m / dpi`).
+    /// (`pixel = 0.0254 m / dpi`), between 2.54 and 2.54e6 dpi (the pixel
+    /// sizes [`MAX_PIXEL_SIZE`] to [`MIN_PIXEL_SIZE`]; else
+    /// [`FilmError::InvalidParameter`] naming the dpi).
     pub fn with_dpi(self, dpi: f64) -> Result<Self> {
         let dpi = check_positive("dpi", dpi)?;
-        self.with_pixel_size(0.0254 / dpi)
+        let pixel_size = 0.0254 / dpi;
+        if check_pixel_size(pixel_size).is_err() {
+            return Err(FilmError::InvalidParameter {
+                name: "dpi",
+                value: dpi,
+                requirement: "between 2.54 and 2.54e6 (pixels of 10 mm to 10 nm)",
+            });
+        }
+        self.with_pixel_size(pixel_size)
     }
 
     /// Width in pixels.

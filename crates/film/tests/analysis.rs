@@ -25,7 +25,7 @@ fn otsu_splits_a_bimodal_histogram_between_its_modes() {
 }
 
 #[test]
-fn connected_components_counts() {
+fn connected_components_counts() -> Result<()> {
     // 0 = background. Two diagonal-touching pixels, an L, a ring, a lone
     // pixel at the far corner.
     let pic = [
@@ -43,8 +43,8 @@ fn connected_components_counts() {
         .iter()
         .flat_map(|r| r.bytes().map(|b| b == b'#'))
         .collect();
-    let (l8, n8) = connected_components(&mask, w, h, Connectivity::Eight);
-    let (l4, n4) = connected_components(&mask, w, h, Connectivity::Four);
+    let (l8, n8) = connected_components(&mask, w, h, Connectivity::Eight)?;
+    let (l4, n4) = connected_components(&mask, w, h, Connectivity::Four)?;
     assert_eq!(n8, 4); // diagonal pair joined
     assert_eq!(n4, 5);
     // Labels are 1..n in raster order of first pixel.
@@ -59,7 +59,8 @@ fn connected_components_counts() {
         .iter()
         .flat_map(|r| r.bytes().map(|b| b == b'#'))
         .collect();
-    assert_eq!(connected_components(&m, 3, 3, Connectivity::Four).1, 1);
+    assert_eq!(connected_components(&m, 3, 3, Connectivity::Four)?.1, 1);
+    Ok(())
 }
 
 #[test]

@@ -323,11 +323,16 @@ impl FastBoussinesq {
 
     /// `out = T · x` (original order). Honours `par`: `Par::Seq` runs on the
     /// calling thread only.
+    ///
+    /// # Panics
+    /// When `x` or `out` does not hold one value per summit.
     pub fn apply(&self, x: &[f64], out: &mut [f64], par: Par) {
         let n_pts = self.pts.len();
         assert!(
             x.len() == n_pts && out.len() == n_pts,
-            "FastBoussinesq::apply: length mismatch"
+            "FastBoussinesq::apply: {} forces and {} outputs for {n_pts} summits",
+            x.len(),
+            out.len()
         );
         let q: Vec<f64> = self.perm.iter().map(|&i| x[i]).collect();
         let n = self.order;

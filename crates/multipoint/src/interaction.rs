@@ -42,7 +42,18 @@ impl<'a> Boussinesq<'a> {
     /// on all the others. Only the non-zero forces are visited (gathered
     /// first, so the inner loop runs branch-free and vectorises); summits at
     /// the same position as the target, itself included, contribute nothing.
+    ///
+    /// # Panics
+    /// When `forces` or `out` does not hold one value per summit (an
+    /// operator's product, like a slice's index, has no error to return).
     pub fn apply(&self, forces: &[f64], out: &mut [f64], par: Par) {
+        let n = self.positions.len();
+        assert!(
+            forces.len() == n && out.len() == n,
+            "Boussinesq::apply: {} forces and {} outputs for {n} summits",
+            forces.len(),
+            out.len()
+        );
         let (q, pts): (Vec<f64>, Vec<[f64; 2]>) = forces
             .iter()
             .zip(self.positions)

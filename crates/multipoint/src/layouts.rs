@@ -15,6 +15,11 @@ use crate::{AsperitySet, Problem, SolveError};
 /// Pitch of the road-like layout's grid (m).
 const PITCH: f64 = 3e-3;
 
+/// The most summits a field may hold (each placement's count, or a dart
+/// throw's `density × length × width`): a count past it is a unit slip,
+/// and would exhaust memory before any solve.
+pub const MAX_SUMMITS: usize = 100_000_000;
+
 /// Where the summits go.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Placement {
@@ -120,8 +125,12 @@ impl SphereSummitField {
     fn validate(&self) -> Result<(), SolveError> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         let placement_ok = match self.placement {
-            Placement::JitteredGrid { count, pitch } => count >= 1 && positive(pitch),
-            Placement::Scattered { count, side } => count >= 1 && positive(side),
+            Placement::JitteredGrid { count, pitch } => {
+                (1..MAX_SUMMITS).contains(&count) && positive(pitch)
+            }
+            Placement::Scattered { count, side } => {
+                (1..MAX_SUMMITS).contains(&count) && positive(side)
+            }
             Placement::DartThrowing {
                 length,
                 width,
@@ -132,7 +141,7 @@ impl SphereSummitField {
                     && positive(width)
                     && positive(density)
                     && positive(min_spacing)
-                    && density * length * width < 1e8
+                    && density * length * width < MAX_SUMMITS as f64
             }
         };
         let spread = match self.heights {
@@ -235,9 +244,11 @@ fn dart_throwing(
     uniform: &mut impl FnMut() -> f64,
 ) -> Vec<[f64; 2]> {
     let target = (density * length * width).round() as usize;
-    // A grid of cells one spacing wide: a candidate's neighbours lie in the
-    // 3 × 3 cells around its own.
-    let cell = min_spacing;
+    // A grid of cells at least one spacing wide: a candidate's neighbours
+    // lie in the 3 × 3 cells around its own. A spacing far below the
+    // summits' mean distance widens the cells to about that distance, so
+    // the grid holds about one cell per summit, not (length / spacing)².
+    let cell = min_spacing.max((length * width / target.max(1) as f64).sqrt());
     let (nx, ny) = (
         (length / cell).ceil() as usize + 1,
         (width / cell).ceil() as usize + 1,

@@ -158,8 +158,8 @@ pub use interaction::{Boussinesq, hertz_potential, mutual_compliance};
 pub use problem::Problem;
 pub use solution::{Convergence, Recovery, Solution, overlapping_contacts, pressure_map};
 pub use solver::{
-    Clusters, Control, Interaction, LinearSolver, PairCorrection, SolverOptions, solve,
-    solve_corrected, solve_from,
+    Clusters, Control, Interaction, LinearSolver, MAX_TOLERANCE, MIN_LOAD, PairCorrection,
+    SolverOptions, solve, solve_corrected, solve_from,
 };
 pub use tyreroad_contact_law::ContactLaw;
 pub use tyreroad_core::Par;

@@ -140,11 +140,13 @@ fn find_coincident(positions: &[[f64; 2]]) -> Option<(usize, usize)> {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    // Halved before the difference, which overflows for summits at ±1e308
+    // (an infinite tolerance then took every pair for coincident).
+    let half_extent = (0.5 * hi[0] - 0.5 * lo[0]).hypot(0.5 * hi[1] - 0.5 * lo[1]);
     // Relative to the layout, and never so small that the coupling's `r²`
     // underflows to 0 (summits 1e-302 m apart were taken as one point with
     // no coupling between them, neither refused nor coupled).
-    let eps = (1e-12 * extent).max(1e-100);
+    let eps = (2e-12 * half_extent).max(1e-100);
     let mut order: Vec<usize> = (0..positions.len()).collect();
     order.sort_by(|&a, &b| positions[a][0].total_cmp(&positions[b][0]));
     for (k, &i) in order.iter().enumerate() {

@@ -212,6 +212,15 @@ impl Solution {
 /// The pressure map (Pa) of the whole contact patch: the sum of every local
 /// contact's pressure distribution centred on its summit, sampled at the
 /// cell centres `origin + (i dx, j dy)` of `grid` (see docs/theory.md).
+///
+/// Sampled, not integrated: a contact whose patch holds no cell centre
+/// (a radius under half a cell) is not on the map, and one holding a few
+/// is coarsely resolved; take cells a fraction of the smallest contact
+/// radius where the map's integral must be the load.
+///
+/// # Errors
+/// [`SolveError::InvalidInput`] when the lengths differ, a position is not
+/// finite, or a contact's force or radius is negative or not finite.
 pub fn pressure_map(
     positions: &[[f64; 2]],
     contacts: &[LocalContact],
@@ -222,6 +231,20 @@ pub fn pressure_map(
             "{} positions for {} local contacts",
             positions.len(),
             contacts.len()
+        )));
+    }
+    let bad = contacts.iter().zip(positions).position(|(c, p)| {
+        !(p.iter().all(|v| v.is_finite())
+            && c.force.is_finite()
+            && c.force >= 0.0
+            && c.radius.is_finite()
+            && c.radius >= 0.0)
+    });
+    if let Some(i) = bad {
+        return Err(SolveError::InvalidInput(format!(
+            "contact {i} at {:?}: force {:e} N and radius {:e} m must be finite and ≥ 0, \
+             its position finite",
+            positions[i], contacts[i].force, contacts[i].radius
         )));
     }
     let (nx, ny) = (grid.nx(), grid.ny());

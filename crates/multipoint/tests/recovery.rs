@@ -90,3 +90,113 @@ fn a_bad_acceptable_tolerance_is_refused() {
         ));
     }
 }
+
+/// A tolerance measures each force residual against the total load: on a
+/// road of 200 asperities, 3e-2 let the uncoupled start (every force nil
+/// at the final state) pass for converged, 0 N for a 500 N load. It is
+/// refused past `MAX_TOLERANCE`, and at that bound the load is carried.
+#[test]
+fn a_tolerance_loose_enough_to_pass_a_nil_start_is_refused() {
+    let mut seed = 7;
+    let problem = layouts::road_like_field(200, rubber(), || lcg(&mut seed)).unwrap();
+    for tolerance in [3e-2, 0.5, 1e10] {
+        let options = SolverOptions {
+            tolerance,
+            acceptable_tolerance: tolerance,
+            ..SolverOptions::default()
+        };
+        match solve(&problem, Control::Load(500.0), &options) {
+            Err(SolveError::InvalidInput(m)) => {
+                assert!(m.contains("tolerance in (0, 1e-3]"), "{m}")
+            }
+            other => panic!("tolerance {tolerance}: expected InvalidInput, got {other:?}"),
+        }
+    }
+    let options = SolverOptions {
+        tolerance: MAX_TOLERANCE,
+        acceptable_tolerance: MAX_TOLERANCE,
+        ..SolverOptions::default()
+    };
+    let s = solve(&problem, Control::Load(500.0), &options).unwrap();
+    assert!(
+        (s.total_force() - 500.0).abs() <= 1e-3 * 500.0,
+        "{}",
+        s.total_force()
+    );
+    assert!(s.contact_count() > 100, "{}", s.contact_count());
+}
+
+#[test]
+fn a_warm_start_without_its_depths_is_refused_not_indexed() {
+    let problem = folding_layout();
+    let n = problem.len();
+    let warm = Solution::warm_start(vec![1.0; n], vec![], 1e-4);
+    match solve_from(
+        &problem,
+        Control::Load(1.0),
+        &SolverOptions::default(),
+        Some(&warm),
+    ) {
+        Err(SolveError::InvalidInput(m)) => assert!(m.contains("0 depths"), "{m}"),
+        other => panic!("expected InvalidInput, got {other:?}"),
+    }
+}
+
+/// Three balls of 5 mm in a row, 10 mm apart, the middle one 50 µm lower.
+fn three_balls() -> Problem<PotentialLaw<Sphere>> {
+    let m = rubber();
+    let ball = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), m);
+    Problem::new(
+        vec![[-0.01, 0.0], [0.0, 0.0], [0.01, 0.0]],
+        vec![0.0, 5e-5, 0.0],
+        vec![ball.clone(), ball.clone(), ball],
+        m,
+    )
+    .unwrap()
+}
+
+/// Below 1e-100 N the laws' arithmetic underflows and Newton ended with
+/// "relative residual 1e185": such a load is refused by name instead.
+/// (Above it a load can still be too small for a layout: forces whose
+/// depths fall under the rounding of its gaps, `ε max H`, end as
+/// `NotConverged` with their residual.)
+#[test]
+fn a_load_below_what_the_solver_resolves_is_refused_by_name() {
+    let problem = three_balls();
+    for w in [1e-150, 1e-300, 5e-324] {
+        match solve(&problem, Control::Load(w), &SolverOptions::default()) {
+            Err(SolveError::InvalidInput(m)) => assert!(m.contains("below the 1e-100 N"), "{m}"),
+            other => panic!("load {w:e}: expected InvalidInput, got {other:?}"),
+        }
+    }
+    let s = solve(&problem, Control::Load(MIN_LOAD), &SolverOptions::default()).unwrap();
+    assert!((s.total_force() - MIN_LOAD).abs() <= 1e-9 * MIN_LOAD);
+    let s = solve(&problem, Control::Load(0.0), &SolverOptions::default()).unwrap();
+    assert_eq!(s.total_force(), 0.0);
+}
+
+/// Three balls 10 mm apart (contact radii ≈ 1 mm) given one Newton
+/// iteration: every reduced solve failed, the merging reach widened until
+/// the three were one body, and the answer was "converged" 6 % off the
+/// point solution. Patches further apart than about twice their radii
+/// stay separate contacts.
+#[test]
+fn contacts_far_apart_are_not_merged_into_one_body_when_newton_is_starved() {
+    let problem = three_balls();
+    let reference = solve(&problem, Control::Load(30.0), &SolverOptions::default()).unwrap();
+    assert_eq!(reference.recovery, Recovery::None);
+    let starved = SolverOptions {
+        max_iterations: 1,
+        ..SolverOptions::default()
+    };
+    match solve(&problem, Control::Load(30.0), &starved) {
+        Err(SolveError::NotConverged { .. }) => {}
+        Ok(s) => {
+            assert!(s.clusters.is_empty(), "{:?}", s.clusters);
+            for (p, q) in s.forces.iter().zip(&reference.forces) {
+                assert!((p - q).abs() <= 1e-6 * q, "{p} vs {q}");
+            }
+        }
+        Err(e) => panic!("expected a point solution or NotConverged, got {e}"),
+    }
+}

@@ -3,7 +3,7 @@
 #![allow(clippy::unwrap_used)]
 
 use tyreroad_asperity::{Cone, Sphere};
-use tyreroad_contact_law::{ContactLaw, Material, PotentialLaw};
+use tyreroad_contact_law::{ContactLaw, LocalContact, Material, PotentialLaw, PressureProfile};
 use tyreroad_multipoint::*;
 
 type SphereLaw = PotentialLaw<Sphere>;
@@ -289,6 +289,43 @@ fn pressure_map_integrates_to_the_total_force() {
     assert!(rel(contacts[0].radius, a) < 1e-12);
 }
 
+/// Regression (adversarial run of the layer crates, 2026-11-30): a
+/// negative force gave negative pressures, a NaN position an empty map,
+/// both as maps. Each is refused naming the contact.
+#[test]
+fn a_pressure_map_of_contacts_no_solve_gives_is_refused() {
+    let grid = Grid::new(20, 20, 1e-4, 1e-4).unwrap();
+    let good = LocalContact {
+        force: 1.0,
+        radius: 5e-4,
+        profile: PressureProfile::Hertz,
+    };
+    assert!(pressure_map(&[[1e-3, 1e-3]], &[good], &grid).is_ok());
+    let cases = [
+        (
+            [1e-3, 1e-3],
+            LocalContact {
+                force: -1.0,
+                ..good
+            },
+        ),
+        ([f64::NAN, 1e-3], good),
+        (
+            [1e-3, 1e-3],
+            LocalContact {
+                radius: f64::INFINITY,
+                ..good
+            },
+        ),
+    ];
+    for (position, contact) in cases {
+        match pressure_map(&[position], &[contact], &grid) {
+            Err(SolveError::InvalidInput(m)) => assert!(m.contains("contact 0"), "{m}"),
+            other => panic!("{position:?} {contact:?}: {:?}", other.map(|_| ())),
+        }
+    }
+}
+
 /// A Hertz-like law `P = a δ^{3/2}` that turns 30 times stiffer past
 /// `δ_k`: continuous `P`, a jump of `k`, like a tabulated law at a node or
 /// at a ramp's end.
@@ -457,6 +494,34 @@ fn summits_closer_than_the_coupling_can_hold_are_coincident() {
         "{:?}",
         result.err()
     );
+}
+
+/// Regression (adversarial run of the layer crates, 2026-11-30): summits
+/// at ±1e308 m overflowed the layout's extent to ∞, and the coincidence
+/// check then took them for one point ("summits 0 and 1 coincide").
+#[test]
+fn summits_at_the_ends_of_the_floating_range_are_not_coincident() {
+    let result = Problem::new(
+        vec![[-1e308, 0.0], [1e308, 0.0]],
+        vec![0.0; 2],
+        vec![ball(5e-3); 2],
+        rubber(),
+    );
+    assert!(result.is_ok(), "{:?}", result.err());
+    // And a real coincidence among them is still found.
+    let result = Problem::new(
+        vec![[-1e308, 0.0], [1e308, 0.0], [1e308, 0.0]],
+        vec![0.0; 3],
+        vec![ball(5e-3); 3],
+        rubber(),
+    );
+    assert!(matches!(
+        result,
+        Err(SolveError::CoincidentSummits {
+            first: 1,
+            second: 2
+        })
+    ));
 }
 
 /// Regression (adversarial run of the Python bindings, 2026-11-30): a

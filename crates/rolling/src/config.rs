@@ -4,6 +4,9 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use tyreroad_core::readable;
+use tyreroad_multipoint::{MAX_TOLERANCE, MIN_LOAD};
+
 use crate::{ContactSlope, RollingError, Sensor, Tread};
 
 /// Most steps a path may have ([`RollingConfig::validate`]).
@@ -84,10 +87,21 @@ impl RollingConfig {
         }
     }
 
-    /// Checks the configuration.
+    /// Checks the configuration: a finite path of at most `MAX_STEPS` steps,
+    /// a speed and step whose sample rate and duration are finite, a
+    /// tolerance in `(0, MAX_TOLERANCE]` (the multipoint solver's bound), a
+    /// load of 0 or at least `MIN_LOAD`, finite sensors.
+    ///
+    /// # Errors
+    /// [`RollingError::InvalidInput`] naming the value.
     pub fn validate(&self) -> Result<(), RollingError> {
         self.tread.validate()?;
-        let bad = |what: &str, v: f64| Err(RollingError::InvalidInput(format!("{what}: got {v}")));
+        let bad = |what: &str, v: f64| {
+            Err(RollingError::InvalidInput(format!(
+                "{what}: got {}",
+                readable(v)
+            )))
+        };
         for (what, v) in [
             ("lateral", self.lateral),
             ("start", self.start),
@@ -110,24 +124,42 @@ impl RollingConfig {
             return Err(RollingError::InvalidInput(format!(
                 "path of {steps:.3e} steps (from {} m to {} m by {} m): at most {MAX_STEPS} \
                  steps; is the step in the right unit?",
-                self.start, self.end, self.step
+                readable(self.start),
+                readable(self.end),
+                readable(self.step)
             )));
         }
         if !(self.speed.is_finite() && self.speed > 0.0) {
             return bad("speed must be finite and > 0 m/s", self.speed);
         }
+        // The signals' times are (x − start) / V and their sample rate
+        // V / Δx: both must be numbers.
+        let (rate, duration) = (self.speed / self.step, (self.end - self.start) / self.speed);
+        if !(rate.is_finite() && rate > 0.0 && duration.is_finite()) {
+            return Err(RollingError::InvalidInput(format!(
+                "speed {} m/s over steps of {} m gives a sample rate of {} Hz and a duration \
+                 of {} s: both must be finite (is the speed or the step in the right unit?)",
+                readable(self.speed),
+                readable(self.step),
+                readable(rate),
+                readable(duration)
+            )));
+        }
         if !(self.margin.is_finite() && self.margin >= 0.0) {
             return bad("margin must be finite and ≥ 0 m", self.margin);
         }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) || self.max_iterations == 0 {
+        if !(self.tolerance > 0.0 && self.tolerance <= MAX_TOLERANCE) || self.max_iterations == 0 {
             return bad(
-                "tolerance must be > 0 and max_iterations ≥ 1",
+                "tolerance must be in (0, 1e-3] and max_iterations ≥ 1",
                 self.tolerance,
             );
         }
         match self.control {
             RollingControl::Load(w) if !(w.is_finite() && w >= 0.0) => {
                 return bad("wheel load must be finite and ≥ 0 N", w);
+            }
+            RollingControl::Load(w) if w > 0.0 && w < MIN_LOAD => {
+                return bad("wheel load must be 0 or at least 1e-100 N", w);
             }
             RollingControl::Approach(d) | RollingControl::TreadHeight(d) if !d.is_finite() => {
                 return bad("imposed approach or height must be finite", d);

@@ -593,6 +593,55 @@ fn bad_input_is_an_error_not_a_panic() {
     assert!(AsperitySet::<Law>::new(vec![], vec![], vec![]).is_err());
 }
 
+/// A tolerance of 1.0 rolled every step "converged" 10 % under the load;
+/// a load of 1e-300 N rolled every step failed; a speed of 5e-324 m/s gave
+/// infinite times. Each is refused naming its value, readably.
+#[test]
+fn loose_tolerances_vanishing_loads_and_speeds_without_a_time_are_refused() {
+    let road = small_road();
+    let (m, o) = (rubber(), RunOptions::default());
+    let good = RollingConfig::new(
+        tyre(),
+        [0.05, 0.06, 1e-3],
+        10.0,
+        RollingControl::Load(100.0),
+    );
+    let refusal = |c: &RollingConfig| match roll(&road, m, c, &o) {
+        Err(RollingError::InvalidInput(e)) => e,
+        other => panic!(
+            "expected InvalidInput, got {:?}",
+            other.map(|r| r.steps.len())
+        ),
+    };
+    for tolerance in [1.0, 2e-3] {
+        let mut c = good.clone();
+        c.tolerance = tolerance;
+        let e = refusal(&c);
+        assert!(e.contains("tolerance must be in (0, 1e-3]"), "{e}");
+    }
+    let mut c = good.clone();
+    c.control = RollingControl::Load(1e-300);
+    let e = refusal(&c);
+    assert!(
+        e.contains("at least 1e-100 N") && e.contains("got 1e-300"),
+        "{e}"
+    );
+    for speed in [5e-324, f64::MAX] {
+        let mut c = good.clone();
+        c.speed = speed;
+        let e = refusal(&c);
+        assert!(e.contains("sample rate") && e.len() < 400, "{e}");
+    }
+    let mut c = good.clone();
+    c.step = 5e-324;
+    let e = refusal(&c);
+    assert!(e.contains("by 5e-324 m") && e.len() < 300, "{e}");
+    // The bound itself rolls.
+    let mut c = good.clone();
+    c.tolerance = 1e-3;
+    assert!(roll(&road, m, &c, &o).is_ok());
+}
+
 #[test]
 fn synthetic_road_is_deterministic_and_spaced() -> TestResult {
     let spec = SyntheticRoad::default();

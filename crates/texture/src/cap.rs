@@ -273,9 +273,10 @@ const BLEND_END: f64 = 10.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CapOptions {
     /// Number of depths in the table (geometric grid from `1e-6·δ_max` to
-    /// `δ_max`, see `TabulatedCap::default_grid`).
+    /// `δ_max`, see `TabulatedCap::default_grid`): from 2 to
+    /// `TabulatedCap::MAX_NODES` (1e6).
     pub nodes: usize,
-    /// Largest depth tabulated (m); `None` = the grid cap's
+    /// Largest depth tabulated (m), finite and > 0; `None` = the grid cap's
     /// [`CapGeometry::max_depth`] (summit − highest boundary point).
     pub max_depth: Option<f64>,
 }
@@ -301,12 +302,34 @@ impl Default for CapOptions {
 /// Without a fit the grid cap is tabulated as it is and `TabulatedCap`'s
 /// power-law onset applies. Depths where the grid cap is still empty are
 /// dropped.
+///
+/// Refused with [`TextureError::InvalidParameter`]: `opts.nodes` outside
+/// `2..=TabulatedCap::MAX_NODES`, `opts.max_depth` given but not finite and
+/// > 0.
 pub fn asperity_cap(
     map: &HeightMap,
     seg: &Segmentation,
     index: usize,
     opts: &CapOptions,
 ) -> Result<TabulatedCap, TextureError> {
+    if !(2..=TabulatedCap::MAX_NODES).contains(&opts.nodes) {
+        return Err(TextureError::InvalidParameter {
+            name: "cap options nodes",
+            value: opts.nodes as f64,
+            requirement: "≥ 2 and ≤ TabulatedCap::MAX_NODES = 1e6",
+        });
+    }
+    if let Some(d) = opts.max_depth
+        && !(d.is_finite() && d > 0.0)
+    {
+        // Not the "no depth range" of a summit level with its basin's rim:
+        // the depth asked for is the fault.
+        return Err(TextureError::InvalidParameter {
+            name: "cap options max_depth (m)",
+            value: d,
+            requirement: "finite and > 0",
+        });
+    }
     let grid = GridCap::new(map, seg, index)?;
     let a = &seg.asperities()[index];
     let dmax = opts.max_depth.unwrap_or(grid.max_depth());

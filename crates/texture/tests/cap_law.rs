@@ -106,3 +106,56 @@ fn segmented_texture_laws_are_continuous_and_never_decrease() {
         }
     }
 }
+
+/// Regression (adversarial run, adv6 U8 and P2): `CapOptions` with
+/// `max_depth: Some(NaN)` or `Some(-1)` was refused as "no depth range
+/// (summit at the basin's boundary height)", and `nodes: usize::MAX` aborted
+/// on "capacity overflow". Both are refused as the option given.
+#[test]
+fn cap_options_out_of_range_are_refused_by_name() {
+    use tyreroad_texture::{HeightMap, TextureError};
+    let h = (0..3600)
+        .map(|k| {
+            let (x, y) = ((k % 60 % 15) as f64 - 7.0, (k / 60 % 15) as f64 - 7.0);
+            -1e-5 * (x * x + y * y)
+        })
+        .collect();
+    let map = HeightMap::new(60, 60, 1e-4, 1e-4, h).unwrap();
+    let seg = segment(
+        &map,
+        &SegmentOptions {
+            min_prominence: 1e-5,
+            min_area: 0.0,
+        },
+    )
+    .unwrap();
+    assert!(asperity_cap(&map, &seg, 0, &CapOptions::default()).is_ok());
+    for d in [f64::NAN, -1.0, 0.0, f64::INFINITY] {
+        let opts = CapOptions {
+            max_depth: Some(d),
+            ..CapOptions::default()
+        };
+        match asperity_cap(&map, &seg, 0, &opts) {
+            Err(e @ TextureError::InvalidParameter { .. }) => {
+                let m = e.to_string();
+                assert!(
+                    m.contains("max_depth") && m.contains(&format!("{d:?}")),
+                    "{m}"
+                );
+            }
+            other => panic!("max_depth {d}: {other:?}"),
+        }
+    }
+    for n in [0, 1, usize::MAX] {
+        let opts = CapOptions {
+            nodes: n,
+            ..CapOptions::default()
+        };
+        match asperity_cap(&map, &seg, 0, &opts) {
+            Err(TextureError::InvalidParameter { name, value, .. }) => {
+                assert_eq!((name, value), ("cap options nodes", n as f64));
+            }
+            other => panic!("nodes {n}: {other:?}"),
+        }
+    }
+}

@@ -243,3 +243,37 @@ fn a_grid_without_its_data_line_says_so() {
     let e = ascii_grid_from_str(&grid).unwrap_err().to_string();
     assert!(e.contains("`data` line") && e.contains("missing"), "{e}");
 }
+
+/// Regression (adversarial run, adv6 U8): a `.foo` file was refused as
+/// "malformed ASCII grid data: …", not saying why it was read as one. The
+/// fallback stays (documented: unknown extensions are ASCII grids), and the
+/// refusal names the extension and the known formats; a valid grid under
+/// any extension is still read.
+#[test]
+fn a_file_of_unknown_extension_is_said_to_be_read_as_an_ascii_grid() {
+    let dir = std::env::temp_dir().join(format!("tyreroad-texture-ext-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("road.foo");
+    std::fs::write(&path, "1 2 3").unwrap();
+    match tyreroad_texture::read_any(&path) {
+        Err(e @ tyreroad_texture::TextureError::Format { .. }) => {
+            let m = e.to_string();
+            assert!(
+                m.contains("read as an ASCII grid") && m.contains(".foo") && m.contains(".x3p"),
+                "{m}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    // Known extensions keep their own message.
+    let asc = dir.join("road.asc");
+    std::fs::write(&asc, "1 2 3").unwrap();
+    let m = tyreroad_texture::read_any(&asc).unwrap_err().to_string();
+    assert!(!m.contains("because its extension"), "{m}");
+    let good = dir.join("road.dat");
+    let text = tyreroad_texture::io::text::ascii_grid_to_string(&map());
+    std::fs::write(&good, text).unwrap();
+    let back = tyreroad_texture::read_any(&good).unwrap();
+    assert_eq!((back.nx(), back.ny()), (6, 4));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

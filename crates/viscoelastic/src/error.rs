@@ -108,6 +108,17 @@ pub enum ViscoError {
         /// The cap.
         max: usize,
     },
+    /// A temperature shift cannot be evaluated at a temperature: at or below
+    /// the WLF pole, or with a factor `a_T` outside floating point (the
+    /// message names the exponent and the inputs that make it, and suspects
+    /// °C for a temperature below 150 K).
+    #[error("invalid temperature for the shift factor a_T: {message}")]
+    TemperatureShift {
+        /// The temperature asked (K).
+        temperature: f64,
+        /// What is wrong.
+        message: String,
+    },
     /// The non-negative least-squares fit did not terminate.
     #[error("non-negative least squares did not converge in {iterations} iterations")]
     FitNotConverged {
@@ -119,7 +130,10 @@ pub enum ViscoError {
     /// receding contact that recursion cannot carry ([`crate::Receding::Ting`]
     /// can; docs/viscoelastic.md).
     #[error(
-        "hereditary step {step} (t = {time} s): the load {load} N is below the relaxing history's {history} N (Lee–Radok's recursion cannot recede that far: use Ting's treatment)"
+        "hereditary step {step} (t = {} s): the load {} N is below the relaxing history's {} N (Lee–Radok's recursion cannot recede that far: use Ting's treatment)",
+        significant(*time),
+        significant(*load),
+        significant(*history)
     )]
     Separation {
         /// 0-based step index.
@@ -132,7 +146,7 @@ pub enum ViscoError {
         history: f64,
     },
     /// The elastic BEM inside a viscoelastic BEM step failed.
-    #[error("viscoelastic BEM at t = {time} s: {source}")]
+    #[error("viscoelastic BEM at t = {} s: {source}", significant(*time))]
     Bem {
         /// Time of the step (s).
         time: f64,
@@ -140,7 +154,7 @@ pub enum ViscoError {
         source: tyreroad_bem::BemError,
     },
     /// An elastic multipoint solve inside a hereditary step failed.
-    #[error("hereditary step {step} (t = {time} s): {source}")]
+    #[error("hereditary step {step} (t = {} s): {source}", significant(*time))]
     Solve {
         /// 0-based step index.
         step: usize,
@@ -224,5 +238,22 @@ mod tests {
         assert_eq!(significant(1e300), "1e300");
         assert_eq!(significant(12.0), "12");
         assert_eq!(significant(0.0123456789), "0.0123457");
+    }
+
+    /// Regression (adversarial run, U1): times and loads printed with `{}`
+    /// came out as hundreds of digits.
+    #[test]
+    fn step_errors_print_extreme_times_and_loads_in_scientific_notation() {
+        let e = super::ViscoError::Separation {
+            step: 3,
+            time: 1e300,
+            load: 1e-300,
+            history: 2.5,
+        };
+        assert_eq!(
+            e.to_string(),
+            "hereditary step 3 (t = 1e300 s): the load 1e-300 N is below the relaxing history's \
+             2.5 N (Lee–Radok's recursion cannot recede that far: use Ting's treatment)"
+        );
     }
 }

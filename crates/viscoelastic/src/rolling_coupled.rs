@@ -312,7 +312,8 @@ impl<'r, L: ContactLaw + Sync> Runner<'r, L> {
                     .correction(&state)
                     .map_err(|m| ViscoError::Rolling {
                         source: RollingError::InvalidInput(format!(
-                            "step at x = {xc} m: coupling: {m}"
+                            "step at x = {} m: coupling: {m}",
+                            crate::significant(xc)
                         )),
                     })?;
                 // The elastic step's damping (docs/rolling.md, "Coupled steps"):

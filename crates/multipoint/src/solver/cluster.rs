@@ -43,7 +43,8 @@
 //! (`r < a_m + a_n`), solve the reduced problem from the cold start, expand,
 //! and repeat while the expanded state shows new overlaps (at most
 //! [`MAX_ROUNDS`]). A reduced solve that fails widens the merging reach by
-//! 1.5× (patches about to touch are merged too). Merging only grows the
+//! 1.5×, up to `2.25 (a_m + a_n)` (patches about to touch are merged too;
+//! patches further apart stay separate, and the solve's failure is said). Merging only grows the
 //! clusters, so the loop ends.
 
 use tyreroad_contact_law::{ContactLaw, LawPoint, LocalContact, PressureProfile};
@@ -66,6 +67,13 @@ pub(crate) const SHARED_DISPLACEMENT_SCALE: f64 = 0.8;
 
 /// Most merge-and-solve rounds of one solve.
 pub(crate) const MAX_ROUNDS: usize = 8;
+
+/// The widest merging reach (in units of `a_m + a_n`) a failed reduced
+/// solve may widen to: patches about to touch are merged, patches a few
+/// radii apart are separate contacts, and merging them would replace the
+/// model by another (three balls 10 mm apart merged into one body when the
+/// inner solves were given one iteration).
+const MAX_REACH: f64 = 2.25;
 
 /// The law of one body of the clustered problem: an asperity alone, or a
 /// cluster (see the module documentation).
@@ -434,9 +442,12 @@ pub(super) fn refine<L: ContactLaw + Sync>(
         let fresh = bodies(problem, uf.groups(), &state.forces, &contacts);
         if merged == 0 {
             if !last_ok {
+                if reach >= MAX_REACH {
+                    break;
+                }
                 // Nothing new to merge and no solution of these clusters:
                 // merge the patches that are about to touch too.
-                reach *= 1.5;
+                reach = (reach * 1.5).min(MAX_REACH);
                 continue;
             }
             // Same clusters: done. (Re-solving with the weights and radii
@@ -451,7 +462,7 @@ pub(super) fn refine<L: ContactLaw + Sync>(
                 (last_ok, reach) = (true, 1.0);
             }
             Err(e @ SolveError::NotConverged { .. }) => {
-                (last_ok, reach) = (false, reach * 1.5);
+                (last_ok, reach) = (false, (reach * 1.5).min(MAX_REACH));
                 last_err = Some(e);
             }
             // A clustering that cannot be built (a body placed by forces

@@ -127,7 +127,7 @@ pub fn solve_corrected<L: ContactLaw + Sync>(
         &CoarseLevels::DEFAULT,
         &correction.pairs,
     )
-    .and_then(super::finite)
+    .and_then(|s| super::checked(s, control, &options))
 }
 
 #[cfg(test)]

@@ -32,7 +32,9 @@ pub use correction::{PairCorrection, solve_corrected};
 use near::NearField;
 use newton::{evaluate, newton};
 pub(crate) use options::CoarseLevels;
-pub use options::{Clusters, Control, Interaction, LinearSolver, SolverOptions};
+pub use options::{
+    Clusters, Control, Interaction, LinearSolver, MAX_TOLERANCE, MIN_LOAD, SolverOptions,
+};
 use options::{check_control, check_options, krylov_order, residual_options};
 use start::{coarse_start, uncoupled_start};
 use state::{Ops, Workspace};
@@ -67,8 +69,8 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
     levels: &CoarseLevels,
 ) -> Result<Solution, SolveError> {
     let result = solve_attempts(problem, control, options, initial, levels, &[]);
-    let result =
-        cluster::refine(problem, control, options, initial, levels, result).and_then(finite);
+    let result = cluster::refine(problem, control, options, initial, levels, result)
+        .and_then(|s| checked(s, control, options));
     if std::env::var_os("TYREROAD_PROFILE").is_some() {
         match &result {
             Ok(s) => eprintln!(
@@ -79,6 +81,31 @@ pub(crate) fn solve_with<L: ContactLaw + Sync>(
         }
     }
     result
+}
+
+/// `s` if it is finite ([`finite`]) and, under load control, its forces
+/// carry the load to the acceptable tolerance once the asperities its final
+/// state leaves out of contact are zeroed: a state that met a loose
+/// tolerance only because each force residual is measured against the
+/// total load (a start with every force nil, on a road of many asperities)
+/// must not pass for a solution. Else [`SolveError::NotConverged`] with
+/// the load's relative mismatch.
+fn checked(s: Solution, control: Control, options: &SolverOptions) -> Result<Solution, SolveError> {
+    let s = finite(s)?;
+    if let Control::Load(w) = control
+        && w > 0.0
+    {
+        let accept = options.acceptable_tolerance.max(options.tolerance);
+        let mismatch = (s.total_force() - w).abs() / w;
+        if mismatch > accept.max(1e-6) {
+            return Err(SolveError::NotConverged {
+                iterations: s.iterations,
+                load_steps: s.load_steps,
+                residual: mismatch,
+            });
+        }
+    }
+    Ok(s)
 }
 
 /// `s`, or [`SolveError::NotFinite`] naming its first number that is not
@@ -115,11 +142,12 @@ fn solve_attempts<L: ContactLaw + Sync>(
     check_options(options)?;
     let n = problem.len();
     if let Some(s) = initial
-        && s.forces.len() != n
+        && (s.forces.len() != n || s.depths.len() != n)
     {
         return Err(SolveError::InvalidInput(format!(
-            "warm start has {} forces for {n} asperities",
-            s.forces.len()
+            "warm start has {} forces and {} depths for {n} asperities",
+            s.forces.len(),
+            s.depths.len()
         )));
     }
     let mut ws = Workspace::new(n);

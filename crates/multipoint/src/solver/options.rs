@@ -92,6 +92,7 @@ pub struct SolverOptions {
     /// the load equation meets it and every force residual is within it plus
     /// its own rounding floor `k_i · 8ε · (|δ0| + |H_i| + |u_i|)` (what double
     /// precision can resolve of `P^law(δ0 − H_i − u_i)`; docs/theory.md §3).
+    /// At most [`MAX_TOLERANCE`].
     pub tolerance: f64,
     /// The largest relative force residual a solve that stagnates (its line
     /// search fails after every recovery) may return with, marked
@@ -99,6 +100,7 @@ pub struct SolverOptions {
     /// fails with [`SolveError::NotConverged`]. The load equation must still
     /// meet [`Self::tolerance`]. Default 1e-8; a value below `tolerance`
     /// counts as `tolerance` (set it so to accept strict convergence only).
+    /// At most [`MAX_TOLERANCE`].
     pub acceptable_tolerance: f64,
     /// Newton iterations allowed per load step.
     pub max_iterations: usize,
@@ -208,13 +210,28 @@ impl Default for SolverOptions {
     }
 }
 
+/// The loosest [`SolverOptions::tolerance`] and
+/// [`SolverOptions::acceptable_tolerance`] a solve accepts. Both bound each
+/// asperity's force residual by a fraction of the *total* load: past about
+/// `1 / N` of it, a start far from the solution already passes for
+/// converged (a 200-asperity road "converged" at 3e-2 with every force 0).
+pub const MAX_TOLERANCE: f64 = 1e-3;
+
+/// The smallest non-zero imposed load (N) a solve accepts: far below any
+/// physical load, and above where the laws' arithmetic (`δ ~ W^(2/3)` near
+/// 1e-100 m) underflows and Newton cannot converge.
+pub const MIN_LOAD: f64 = 1e-100;
+
 pub(super) fn check_control(control: Control) -> Result<(), SolveError> {
     match control {
         Control::Load(w) if !(w.is_finite() && w >= 0.0) => Err(SolveError::InvalidInput(format!(
-            "imposed load must be finite and ≥ 0 N, got {w}"
+            "imposed load must be finite and ≥ 0 N, got {w:e}"
+        ))),
+        Control::Load(w) if w > 0.0 && w < MIN_LOAD => Err(SolveError::InvalidInput(format!(
+            "imposed load {w:e} N is below the {MIN_LOAD:e} N a solve resolves (0 for no load)"
         ))),
         Control::Approach(d) if !d.is_finite() => Err(SolveError::InvalidInput(format!(
-            "imposed approach must be finite, got {d}"
+            "imposed approach must be finite, got {d:e}"
         ))),
         _ => Ok(()),
     }
@@ -243,15 +260,17 @@ pub(super) fn krylov_order(order: usize) -> usize {
 }
 
 pub(super) fn check_options(options: &SolverOptions) -> Result<(), SolveError> {
-    if !(options.tolerance.is_finite() && options.tolerance > 0.0) || options.max_iterations == 0 {
+    let in_range = |t: f64| t > 0.0 && t <= MAX_TOLERANCE;
+    if !in_range(options.tolerance) || options.max_iterations == 0 {
         return Err(SolveError::InvalidInput(format!(
-            "solver options need tolerance > 0 and max_iterations ≥ 1, got {} and {}",
+            "solver options need tolerance in (0, {MAX_TOLERANCE:e}] and max_iterations ≥ 1, \
+             got {:e} and {}",
             options.tolerance, options.max_iterations
         )));
     }
-    if !(options.acceptable_tolerance.is_finite() && options.acceptable_tolerance > 0.0) {
+    if !in_range(options.acceptable_tolerance) {
         return Err(SolveError::InvalidInput(format!(
-            "solver options need a finite acceptable_tolerance > 0, got {}",
+            "solver options need acceptable_tolerance in (0, {MAX_TOLERANCE:e}], got {:e}",
             options.acceptable_tolerance
         )));
     }

@@ -11,9 +11,16 @@ use std::path::Path;
 
 use crate::{HeightMap, TextureError};
 
+/// The extensions [`read_any`] reads as ASCII grids by name; any other
+/// unknown one is tried as an ASCII grid too, and a failure then says so.
+const ASCII_GRID_EXTENSIONS: [&str; 3] = ["asc", "txt", ""];
+
 /// Read a height map, choosing the format by the file extension: `.x3p`,
 /// `.sur`, `.xyz`, `.npy` (spacing in a sidecar file) and `.npz`
-/// ([`npy`]), and anything else as an ASCII grid (`.asc`, `.txt`, ...).
+/// ([`npy`]), and anything else as an ASCII grid (`.asc`, `.txt`, none,
+/// ...). Images are refused by name. A file of another extension that is
+/// not a valid ASCII grid is refused with a [`TextureError::Format`] saying
+/// it was read as one because its extension is none of the known ones.
 pub fn read_any(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
     let ext = path
@@ -37,6 +44,19 @@ pub fn read_any(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
                 path.display()
             ),
         }),
-        _ => text::read_ascii_grid(path),
+        e if ASCII_GRID_EXTENSIONS.contains(&e) => text::read_ascii_grid(path),
+        // "malformed ASCII grid data" alone would leave the user of a
+        // `.foo` file wondering why it was taken for one.
+        _ => text::read_ascii_grid(path).map_err(|err| match err {
+            TextureError::Format { format, message } => TextureError::Format {
+                format,
+                message: format!(
+                    "{}: read as an ASCII grid because its extension .{ext} is none of the \
+                     known ones (.x3p, .sur, .xyz, .npy, .npz, .asc, .txt): {message}",
+                    path.display()
+                ),
+            },
+            other => other,
+        }),
     }
 }
