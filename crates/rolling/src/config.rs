@@ -150,7 +150,7 @@ impl RollingConfig {
         }
         if !(self.tolerance > 0.0 && self.tolerance <= MAX_TOLERANCE) || self.max_iterations == 0 {
             return bad(
-                "tolerance must be in (0, 1e-3] and max_iterations ≥ 1",
+                &format!("tolerance must be in (0, {MAX_TOLERANCE:e}] and max_iterations ≥ 1"),
                 self.tolerance,
             );
         }
@@ -159,7 +159,10 @@ impl RollingConfig {
                 return bad("wheel load must be finite and ≥ 0 N", w);
             }
             RollingControl::Load(w) if w > 0.0 && w < MIN_LOAD => {
-                return bad("wheel load must be 0 or at least 1e-100 N", w);
+                return bad(
+                    &format!("wheel load must be 0 or at least {MIN_LOAD:e} N"),
+                    w,
+                );
             }
             RollingControl::Approach(d) | RollingControl::TreadHeight(d) if !d.is_finite() => {
                 return bad("imposed approach or height must be finite", d);
