@@ -110,7 +110,6 @@ mod mesh;
 mod mesh_build;
 mod run_out;
 mod table;
-mod union_find;
 
 pub use analytic::{Cone, EllipticParaboloid, Sphere, ellipse_perimeter};
 pub use cap::{CapGeometry, CapMeasures};

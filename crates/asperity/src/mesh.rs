@@ -10,9 +10,9 @@ use std::fmt;
 use nalgebra::Point3;
 use parry3d_f64::math::Vector;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+use tyreroad_core::UnionFind;
 
 use crate::run_out::{RunOut, past_the_end, with_run_out_ends};
-use crate::union_find::UnionFind;
 use crate::{CapGeometry, CapMeasures, GeometryError, MeshBuffers};
 
 /// One triangle, in coordinates relative to the summit (local `z ≤ 0`).
@@ -596,6 +596,10 @@ impl MeshAsperity {
             for k in 0..3 {
                 let (a, b) = (above[k], above[(k + 1) % 3]);
                 let o = self.neighbors[s][k] as usize;
+                // A neighbour below the section (past `kept`) joins nothing.
+                if o >= kept {
+                    continue;
+                }
                 if a || b {
                     parts.union(s, o);
                 }

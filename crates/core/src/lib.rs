@@ -79,6 +79,7 @@ mod material;
 mod par;
 pub mod pchip;
 pub mod spectrum;
+mod union_find;
 pub mod validate;
 
 pub use error::{CoreError, readable};
@@ -86,3 +87,4 @@ pub use grid::{Field, Grid, MAX_CELLS};
 pub use material::Material;
 pub use par::{Par, is_parallel, map_at, run_at, thread_count};
 pub use pchip::{PchipRule, pchip_slopes};
+pub use union_find::UnionFind;

@@ -48,6 +48,7 @@
 //! clusters, so the loop ends.
 
 use tyreroad_contact_law::{ContactLaw, LawPoint, LocalContact, PressureProfile};
+use tyreroad_core::UnionFind;
 
 use super::options::{Clusters, CoarseLevels};
 use super::start::uncoupled_start;
@@ -124,49 +125,6 @@ impl<L: ContactLaw> ContactLaw for BodyLaw<'_, L> {
             radius: area.sqrt(),
             profile: PressureProfile::Hertz,
         }
-    }
-}
-
-/// Disjoint sets of asperity indices.
-struct UnionFind(Vec<usize>);
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        Self((0..n).collect())
-    }
-
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
-        }
-        i
-    }
-
-    /// Merges the sets of `i` and `j`; true when they were apart.
-    fn union(&mut self, i: usize, j: usize) -> bool {
-        let (a, b) = (self.find(i), self.find(j));
-        if a == b {
-            return false;
-        }
-        self.0[a.max(b)] = a.min(b);
-        true
-    }
-
-    /// Every set, each sorted, ordered by its smallest member.
-    fn groups(&mut self) -> Vec<Vec<usize>> {
-        let n = self.0.len();
-        let mut slot = vec![usize::MAX; n];
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for i in 0..n {
-            let r = self.find(i);
-            if slot[r] == usize::MAX {
-                slot[r] = groups.len();
-                groups.push(Vec::new());
-            }
-            groups[slot[r]].push(i);
-        }
-        groups
     }
 }
 
