@@ -703,3 +703,50 @@ fn a_tolerance_the_start_meets_and_a_label_past_every_cell_are_refused() {
     assert_eq!(regions.len(), 4);
     assert!(rel(regions.iter().map(|r| r.force).sum(), 1.0) < 1e-12);
 }
+
+/// Elastic contact has no length scale of its own: lengths × s and the load
+/// × s² give the same pressures, and the approach and contact radius × s.
+/// The solver keeps that from 1e-80 to 1e80 (measured: the same figures
+/// to 1e-14 from 1e-90 to 1e100). Past that its conjugate-gradient step
+/// (a sum of products of gaps, cubic in s) leaves floating point's range:
+/// it must then say it did not converge, never answer otherwise.
+#[test]
+fn the_solution_scales_with_the_problem_and_says_where_it_cannot() {
+    let solve_at = |s: f64| -> Result<BemSolution, BemError> {
+        let grid = Grid::centered(65, 65, 4e-5 * s, 4e-5 * s)?;
+        let ball = Sphere {
+            centre: [0.0, 0.0],
+            radius: 5e-3 * s,
+            summit: 0.0,
+        };
+        let surface = spherical_caps(&grid, &[ball], -5e-3 * s)?;
+        let material = Material::new(6.54e6, 0.5)?;
+        // The unit case takes 32 iterations; those that cannot converge
+        // stop at 200 rather than the default 5000.
+        let options = BemOptions {
+            max_iterations: 200,
+            ..BemOptions::default()
+        };
+        solve(&surface, &material, Control::Load(s * s), &options)
+    };
+    let unit = solve_at(1.0).unwrap();
+    for s in [1e-80, 1e-40, 1e-10, 1e10, 1e40, 1e80] {
+        let scaled = solve_at(s).unwrap();
+        assert_eq!(scaled.contact_cells, unit.contact_cells, "s = {s:e}");
+        assert!(rel(scaled.approach / s, unit.approach) < 1e-9, "s = {s:e}");
+        assert!(
+            rel(scaled.equivalent_radius() / s, unit.equivalent_radius()) < 1e-9,
+            "s = {s:e}"
+        );
+        assert!(
+            rel(scaled.max_pressure(), unit.max_pressure()) < 1e-9,
+            "s = {s:e}"
+        );
+    }
+    for s in [1e-150, 1e150] {
+        match solve_at(s) {
+            Ok(scaled) => assert!(rel(scaled.approach / s, unit.approach) < 1e-9, "s = {s:e}"),
+            Err(e) => assert!(matches!(e, BemError::NotConverged { .. }), "s = {s:e}: {e}"),
+        }
+    }
+}
