@@ -157,9 +157,7 @@ fn three_balls() -> Problem<PotentialLaw<Sphere>> {
 
 /// Below 1e-100 N the laws' arithmetic underflows and Newton ended with
 /// "relative residual 1e185": such a load is refused by name instead.
-/// (Above it a load can still be too small for a layout: forces whose
-/// depths fall under the rounding of its gaps, `ε max H`, end as
-/// `NotConverged` with their residual.)
+/// (Loads above it converge: `a_load_whose_depth_is_below_the_gaps_rounding_converges`.)
 #[test]
 fn a_load_below_what_the_solver_resolves_is_refused_by_name() {
     let problem = three_balls();
@@ -173,6 +171,54 @@ fn a_load_below_what_the_solver_resolves_is_refused_by_name() {
     assert!((s.total_force() - MIN_LOAD).abs() <= 1e-9 * MIN_LOAD);
     let s = solve(&problem, Control::Load(0.0), &SolverOptions::default()).unwrap();
     assert_eq!(s.total_force(), 0.0);
+}
+
+/// 25 balls at 10 mm pitch, heights spread over 1 mm: from about 1e-30 N
+/// the highest ball's Hertz depth (1e-24 m) lay under the start's bracket
+/// floor (1e-24 m, an absolute 1e-12 of a 1e-12 m width), and every load
+/// down to `MIN_LOAD` ended `NotConverged` ("relative residual 9.4" at
+/// 1e-30 N, 1e70 at 1e-99 N). The bracket now stops relative to the depth
+/// it brackets: one ball in contact, at Hertz's depth.
+#[test]
+fn a_load_whose_depth_is_below_the_gaps_rounding_converges() {
+    let m = rubber();
+    let ball = PotentialLaw::sphere(Sphere::new(5e-3).unwrap(), m);
+    let centres = (0..25)
+        .map(|k| [(k % 5) as f64 * 0.01, (k / 5) as f64 * 0.01])
+        .collect();
+    // A permutation of 0, 0.04, ..., 0.96 mm: ball 0 is the only one at 0.
+    let gaps = (0..25).map(|k| ((k * 7) % 25) as f64 * 4e-5).collect();
+    let problem = Problem::new(centres, gaps, vec![ball; 25], m).unwrap();
+    let e_star = m.reduced_modulus();
+    let hertz = |w: f64| (3.0 * w / (4.0 * e_star * 5e-3f64.sqrt())).powf(2.0 / 3.0);
+    // The law's own depth at a load its arithmetic resolves easily; a
+    // sphere's law goes as δ^(3/2) at small depths, so δ ∝ w^(2/3).
+    let (w_ref, reference) = (1e-10, {
+        let s = solve(&problem, Control::Load(1e-10), &SolverOptions::default()).unwrap();
+        s.approach
+    });
+    // The Cesbron law of a sphere is Hertz's to 0.15 % at small depths.
+    assert!(
+        (reference / hertz(w_ref) - 1.0).abs() < 5e-3,
+        "{reference:e}"
+    );
+    for w in [1e-20, 1e-30, 1e-40, 1e-60, 1e-80, MIN_LOAD] {
+        let s = solve(&problem, Control::Load(w), &SolverOptions::default())
+            .unwrap_or_else(|e| panic!("load {w:e}: {e}"));
+        assert!((s.total_force() - w).abs() <= 1e-9 * w, "load {w:e}");
+        assert_eq!(
+            s.forces.iter().filter(|&&p| p > 0.0).count(),
+            1,
+            "load {w:e}"
+        );
+        assert!(s.forces[0] > 0.0, "load {w:e}: {:?}", s.forces);
+        let scaled = reference * (w / w_ref).powf(2.0 / 3.0);
+        assert!(
+            (s.approach - scaled).abs() <= 1e-6 * scaled,
+            "load {w:e}: approach {:e} against {scaled:e}",
+            s.approach
+        );
+    }
 }
 
 /// Three balls 10 mm apart (contact radii ≈ 1 mm) given one Newton

@@ -153,7 +153,7 @@ pub(super) fn uncoupled_start<L: ContactLaw>(
                 } else {
                     hi = x;
                 }
-                if (f - w).abs() <= 1e-12 * w || hi - lo <= 1e-12 * hi.abs().max(width) {
+                if (f - w).abs() <= 1e-12 * w || hi - lo <= 1e-12 * hi.abs().max(hi - lo0) {
                     break;
                 }
                 let newton = x - (f - w) / k;
