@@ -277,3 +277,56 @@ fn a_file_of_unknown_extension_is_said_to_be_read_as_an_ascii_grid() {
     assert_eq!((back.nx(), back.ny()), (6, 4));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An ASCII grid of `nx × ny` (declared) with `rows` data lines as given.
+fn grid_text(header: &str, rows: &[Vec<f64>]) -> String {
+    let mut s = format!("{header}\ndata\n");
+    for r in rows {
+        let line: Vec<String> = r.iter().map(|v| format!("{v:e}")).collect();
+        s.push_str(&line.join(" "));
+        s.push('\n');
+    }
+    s
+}
+
+/// Found by an adversarial run (2026-12-01): each of these was read as a
+/// valid map, a thousand times too wide or scrambled, and solved.
+#[test]
+fn a_header_unit_and_rows_of_the_wrong_length_are_refused() {
+    use tyreroad_texture::io::text::ascii_grid_from_str;
+    let rows = |nx: usize, ny: usize| -> Vec<Vec<f64>> {
+        (0..ny)
+            .map(|j| (0..nx).map(|i| 1e-4 * ((i * 3 + j) % 7) as f64).collect())
+            .collect()
+    };
+    // "dx 0.5 mm": the unit was dropped and the spacing read as 0.5 m.
+    let e = ascii_grid_from_str(&grid_text("nx 4\nny 3\ndx 0.5 mm\ndy 0.0005", &rows(4, 3)))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("header dx") && e.contains("\"mm\""), "{e}");
+    // 20 lines of 80 values under `nx 20`, `ny 80` (swapped).
+    let e = ascii_grid_from_str(&grid_text("nx 20\nny 80\ndx 1e-4\ndy 1e-4", &rows(80, 20)))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("80 values but nx = 20") && e.contains("swapped"),
+        "{e}"
+    );
+    // One value too many on line 3's row, one missing on a later row:
+    // every row between shifted by one.
+    let mut ragged = rows(5, 6);
+    ragged[1].push(1e-4);
+    ragged[4].pop();
+    let e = ascii_grid_from_str(&grid_text("nx 5\nny 6\ndx 1e-4\ndy 1e-4", &ragged))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 7 holds 6 values") && e.contains("nx = 5"),
+        "{e}"
+    );
+    // Still read: rows of nx, and rows wrapped over lines of fewer values.
+    let ok = ascii_grid_from_str(&grid_text("nx 6\nny 4\ndx 1e-4\ndy 1e-4", &rows(6, 4))).unwrap();
+    let wrapped: Vec<Vec<f64>> = rows(6, 4).concat().chunks(4).map(<[f64]>::to_vec).collect();
+    let back = ascii_grid_from_str(&grid_text("nx 6\nny 4\ndx 1e-4\ndy 1e-4", &wrapped)).unwrap();
+    assert_eq!(ok, back);
+}

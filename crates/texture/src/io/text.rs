@@ -33,7 +33,10 @@ pub fn read_ascii_grid(path: impl AsRef<Path>) -> Result<HeightMap, TextureError
 /// ```
 ///
 /// Rows may be wrapped over several lines: the values are read in order,
-/// exactly `nx·ny` of them.
+/// exactly `nx·ny` of them. A header value takes no unit (`dx 0.5 mm` is
+/// refused, not read as 0.5 m; a `#` comment may follow it), and lines
+/// that are rows hold `nx` values: lines all longer than `nx`, or one line
+/// off `nx` among rows of `nx`, are refused with the line's number.
 pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
     let mut lines = without_bom(s).lines();
     let (mut nx, mut ny, mut dx, mut dy) = (None, None, None, None);
@@ -57,6 +60,20 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
         let mut it = line.split_whitespace();
         let key = it.next().unwrap_or("").to_ascii_lowercase();
         let val = it.next();
+        // "dx 0.5 mm" read as 0.5 m was a map a thousand times too wide.
+        if matches!(
+            key.as_str(),
+            "nx" | "ny" | "dx" | "dy" | "z_scale" | "xy_scale"
+        ) && let Some(extra) = it.next().filter(|t| !t.starts_with('#'))
+        {
+            return Err(TextureError::format(
+                GRID,
+                format!(
+                    "header {key}: one value expected, then {extra:?}: header values are bare \
+                     numbers (spacings in metres; xy_scale and z_scale convert other units)"
+                ),
+            ));
+        }
         // A key given twice would silently keep its last value.
         if key != "data" && !seen.insert(key.clone()) {
             return Err(TextureError::format(
@@ -118,11 +135,16 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
     );
     let n = check_size(nx, ny).map_err(|e| TextureError::format(GRID, e.to_string()))?;
     let mut h = Vec::new();
-    for line in lines {
+    // Values per data line, with the line's number in the file, to tell a
+    // wrapped row from rows of the wrong length.
+    let mut line_counts: Vec<(usize, usize)> = Vec::new();
+    let header_lines = without_bom(s).lines().count() - lines.clone().count();
+    for (k, line) in lines.enumerate() {
         let line = line.trim();
         if line.starts_with('#') {
             continue;
         }
+        let before = h.len();
         for tok in line.split_whitespace() {
             if h.len() == n {
                 return Err(TextureError::format(
@@ -143,6 +165,9 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
             };
             h.push(v);
         }
+        if h.len() > before {
+            line_counts.push((header_lines + k + 1, h.len() - before));
+        }
     }
     if h.len() != n {
         return Err(TextureError::format(
@@ -150,8 +175,38 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
             format!("{} values for nx·ny = {n}", h.len()),
         ));
     }
+    check_rows(&line_counts, nx)?;
     HeightMap::from_nan_heights(nx, ny, dx * xys, dy * xys, h)
         .map_err(|e| TextureError::format(GRID, e.to_string()))
+}
+
+/// Rows may wrap over several lines, but lines that are rows must be rows
+/// of `nx`: every line longer than `nx` (a grid written with nx and ny
+/// swapped read as a scrambled map), or one line off `nx` among lines of
+/// `nx` (a value missing in one row and one too many in another shifted
+/// every row between), is refused, naming the line.
+fn check_rows(line_counts: &[(usize, usize)], nx: usize) -> Result<(), TextureError> {
+    if let Some(&(line, count)) = line_counts.iter().find(|(_, c)| *c > nx)
+        && line_counts.iter().all(|(_, c)| *c == count)
+    {
+        return Err(TextureError::format(
+            GRID,
+            format!(
+                "every data line holds {count} values but nx = {nx} (line {line}): are nx and ny \
+                 swapped?"
+            ),
+        ));
+    }
+    let rows = line_counts.iter().filter(|(_, c)| *c == nx).count();
+    if rows * 2 > line_counts.len()
+        && let Some(&(line, count)) = line_counts.iter().find(|(_, c)| *c != nx)
+    {
+        return Err(TextureError::format(
+            GRID,
+            format!("line {line} holds {count} values where the other rows hold nx = {nx}"),
+        ));
+    }
+    Ok(())
 }
 
 /// The ASCII grid text of `map` (metres, `NaN` for missing points, 17
