@@ -28,7 +28,7 @@ pub(super) fn fit(
     poisson_ratio: f64,
 ) -> Result<(Prony, Option<String>), ScenarioError> {
     let path = base_dir.join(file);
-    let text = std::fs::read_to_string(&path)
+    let text = tyreroad_core::read_input_text(&path)
         .map_err(ScenarioError::io("reading the master curve", &path))?;
     let curve =
         MasterCurve::parse_csv_within(&text, MODULUS_RANGE).map_err(visco_error("master_curve"))?;

@@ -75,6 +75,7 @@
 
 mod error;
 mod grid;
+mod input_file;
 mod material;
 mod par;
 pub mod pchip;
@@ -84,6 +85,7 @@ pub mod validate;
 
 pub use error::{CoreError, readable};
 pub use grid::{Field, Grid, MAX_CELLS};
+pub use input_file::{MAX_INPUT_BYTES, check_input_file, read_input_file, read_input_text};
 pub use material::Material;
 pub use par::{Par, is_parallel, map_at, run_at, thread_count};
 pub use pchip::{PchipRule, pchip_slopes};

@@ -386,7 +386,7 @@ impl Calibration {
 
     /// Reads a calibration CSV file (format of [`Calibration::parse_csv`]).
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|reason| FilmError::Io {
+        let text = tyreroad_core::read_input_text(path).map_err(|reason| FilmError::Io {
             path: path.to_path_buf(),
             reason,
         })?;
@@ -559,7 +559,7 @@ impl LlwChart {
 
     /// Reads a chart file.
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|reason| FilmError::Io {
+        let text = tyreroad_core::read_input_text(path).map_err(|reason| FilmError::Io {
             path: path.to_path_buf(),
             reason,
         })?;

@@ -97,7 +97,7 @@ pub fn parse_model_csv(text: &str, source: &Path) -> Result<Vec<ModelRow>> {
 
 /// Reads a model CSV file ([`parse_model_csv`]).
 pub fn read_model_csv(path: &Path) -> Result<Vec<ModelRow>> {
-    let text = std::fs::read_to_string(path).map_err(|reason| FilmError::Io {
+    let text = tyreroad_core::read_input_text(path).map_err(|reason| FilmError::Io {
         path: path.to_path_buf(),
         reason,
     })?;

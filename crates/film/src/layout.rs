@@ -125,7 +125,7 @@ impl Layout {
 
     /// Reads a layout CSV file ([`Layout::parse_csv`]).
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|reason| FilmError::Io {
+        let text = tyreroad_core::read_input_text(path).map_err(|reason| FilmError::Io {
             path: path.to_path_buf(),
             reason,
         })?;

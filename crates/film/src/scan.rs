@@ -131,7 +131,7 @@ impl Scan {
     /// ([`FilmError::Image`], "non-square pixels"): the model has one pixel
     /// size, and reading it as square would stretch every print.
     pub fn open(path: &Path, channel: Channel) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|reason| FilmError::Io {
+        let bytes = tyreroad_core::read_input_file(path).map_err(|reason| FilmError::Io {
             path: path.to_path_buf(),
             reason,
         })?;

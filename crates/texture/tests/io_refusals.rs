@@ -330,3 +330,31 @@ fn a_header_unit_and_rows_of_the_wrong_length_are_refused() {
     let back = ascii_grid_from_str(&grid_text("nx 6\nny 4\ndx 1e-4\ndy 1e-4", &wrapped)).unwrap();
     assert_eq!(ok, back);
 }
+
+/// Found by an adversarial run (2026-12-01): a FIFO named as the texture
+/// blocked the run forever, `/dev/zero` read until memory ran out.
+#[test]
+fn a_pipe_or_a_device_named_as_a_texture_is_refused_not_waited_on() {
+    use tyreroad_texture::io::read_any;
+    if std::path::Path::new("/dev/zero").exists() {
+        let e = read_any("/dev/zero").unwrap_err().to_string();
+        assert!(
+            e.contains("/dev/zero") && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+    let dir = std::env::temp_dir().join(format!("tyreroad-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("road.asc");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        let e = read_any(&fifo).unwrap_err().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+    }
+    let e = read_any(&dir).unwrap_err().to_string();
+    assert!(e.contains("a directory"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -27,7 +27,7 @@ const NPY: &str = "NumPy";
 /// or the spacing is not finite and > 0.
 pub fn read_npy(path: impl AsRef<Path>, dx: f64, dy: f64) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
+    let bytes = tyreroad_core::read_input_file(path).map_err(|e| TextureError::io(path, e))?;
     npy_from_bytes(&bytes, dx, dy)
 }
 
@@ -59,7 +59,7 @@ pub fn sidecar_spacing(path: impl AsRef<Path>) -> Result<(f64, f64), TextureErro
     let mut sidecar = path.as_os_str().to_os_string();
     sidecar.push(".spacing");
     let sidecar = Path::new(&sidecar);
-    let text = std::fs::read_to_string(sidecar).map_err(|e| TextureError::io(sidecar, e))?;
+    let text = tyreroad_core::read_input_text(sidecar).map_err(|e| TextureError::io(sidecar, e))?;
     let values: Vec<f64> = super::text::without_bom(&text)
         .split_whitespace()
         .map(str::parse)
@@ -84,6 +84,7 @@ pub fn sidecar_spacing(path: impl AsRef<Path>) -> Result<(f64, f64), TextureErro
 /// [`TextureError`] if the archive cannot be read or lacks either member.
 pub fn read_npz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
+    tyreroad_core::check_input_file(path).map_err(|e| TextureError::io(path, e))?;
     let file = std::fs::File::open(path).map_err(|e| TextureError::io(path, e))?;
     let mut zip = zip::ZipArchive::new(file)
         .map_err(|e| TextureError::format(NPY, format!("{}: {e}", path.display())))?;

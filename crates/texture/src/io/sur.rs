@@ -44,7 +44,7 @@ fn latin1(b: &[u8]) -> String {
 /// Read a `.sur` file (see [`sur_from_bytes`]).
 pub fn read_sur(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
+    let bytes = tyreroad_core::read_input_file(path).map_err(|e| TextureError::io(path, e))?;
     sur_from_bytes(&bytes)
 }
 

@@ -12,8 +12,7 @@ const XYZ: &str = "xyz";
 /// Read an ASCII grid file (format: [`ascii_grid_from_str`]).
 pub fn read_ascii_grid(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
-    let s = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
-    let s = String::from_utf8(s).map_err(|_| TextureError::format(GRID, "not UTF-8 text"))?;
+    let s = tyreroad_core::read_input_text(path).map_err(|e| TextureError::io(path, e))?;
     ascii_grid_from_str(&s)
 }
 
@@ -245,8 +244,7 @@ pub fn write_ascii_grid(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), T
 /// Read an xyz file (format: [`xyz_from_str`]).
 pub fn read_xyz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
-    let s = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
-    let s = String::from_utf8(s).map_err(|_| TextureError::format(XYZ, "not UTF-8 text"))?;
+    let s = tyreroad_core::read_input_text(path).map_err(|e| TextureError::io(path, e))?;
     xyz_from_str(&s)
 }
 

@@ -62,6 +62,7 @@ pub struct MapWindow {
 /// dtype other than float64/float32 or a shape that is not 2-D.
 pub fn npy_layout(path: impl AsRef<Path>) -> Result<NpyLayout, TextureError> {
     let path = path.as_ref();
+    tyreroad_core::check_input_file(path).map_err(|e| TextureError::io(path, e))?;
     let mut file = File::open(path).map_err(|e| TextureError::io(path, e))?;
     layout_from(&mut file, path)
 }
@@ -162,6 +163,7 @@ pub fn read_npy_window(
     validate::positive("dx", dx)?;
     validate::positive("dy", dy)?;
     let path = path.as_ref();
+    tyreroad_core::check_input_file(path).map_err(|e| TextureError::io(path, e))?;
     let mut file = File::open(path).map_err(|e| TextureError::io(path, e))?;
     let layout = layout_from(&mut file, path)?;
     let (i0, i1) = (columns.start.min(layout.nx), columns.end.min(layout.nx));

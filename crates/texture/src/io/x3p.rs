@@ -61,7 +61,7 @@ impl X3pDataType {
 /// Read an X3P file.
 pub fn read_x3p(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| TextureError::io(path, e))?;
+    let bytes = tyreroad_core::read_input_file(path).map_err(|e| TextureError::io(path, e))?;
     x3p_from_bytes(&bytes)
 }
 
