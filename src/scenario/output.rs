@@ -24,10 +24,89 @@ pub mod swap;
 /// The name prefix of a set's staging directory inside its output folder.
 pub const STAGING_PREFIX: &str = ".tyreroad-staging-";
 
+/// The file that a run holds locked in its output folder while it writes
+/// there (an advisory `flock`), removed when the run's sets are done.
+pub const LOCK_FILE: &str = ".tyreroad-lock";
+
+/// A held lock on an output folder: the file is unlinked before it is
+/// closed, and a lock taken on a file that was unlinked meanwhile is taken
+/// again ([`lock_folder`]), so no two runs ever hold one folder.
+#[derive(Debug)]
+struct FolderLock {
+    path: PathBuf,
+    _file: fs::File,
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        // Still held here: a run that opened this file before the unlink
+        // finds it gone once it gets the lock, and opens the new one.
+        let _ = fs::remove_file(&self.path);
+    }
+}
+
+/// Whether `file` is still the one at `path` (not unlinked meanwhile).
+fn still_linked(file: &fs::File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), fs::metadata(path)) {
+            (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (file, path);
+        true
+    }
+}
+
+/// The lock on `dir` ([`LOCK_FILE`]). Two runs writing into one folder at
+/// once removed each other's staging and swapped the folder over each
+/// other (a run reported files written that were not there): the second
+/// (another process, or another set of this one: a folder's rebuild
+/// carries no other set's staging) is refused instead. A file system
+/// without locks runs unlocked, as before.
+fn lock_folder(dir: &Path) -> Result<FolderLock, ScenarioError> {
+    let path = dir.join(LOCK_FILE);
+    let busy = || ScenarioError::Io {
+        action: "writing outputs into",
+        path: dir.to_path_buf(),
+        source: std::io::Error::new(
+            std::io::ErrorKind::ResourceBusy,
+            "another run is writing into this folder: wait for it to end, or give another \
+             output folder",
+        ),
+    };
+    // A few rounds at most: each retry means another run unlinked the file
+    // between this open and this lock, i.e. it just ended.
+    for _ in 0..8 {
+        let file = fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(ScenarioError::io("opening the run's lock", &path))?;
+        match file.try_lock() {
+            Ok(()) if !still_linked(&file, &path) => continue,
+            Ok(()) => {}
+            Err(fs::TryLockError::WouldBlock) => return Err(busy()),
+            Err(fs::TryLockError::Error(e)) if e.kind() == std::io::ErrorKind::Unsupported => {}
+            Err(fs::TryLockError::Error(e)) => return Err(ScenarioError::io("locking", &path)(e)),
+        }
+        return Ok(FolderLock {
+            path: path.clone(),
+            _file: file,
+        });
+    }
+    Err(busy())
+}
+
 /// Removes the staging directories a killed run left in `dir` (a run killed
 /// before its commit never moved them in; they hold nothing a reader sees).
-/// Two runs writing into one folder at once are not supported: the second
-/// would remove the first's staging.
+/// Called with the folder's lock held ([`lock_folder`]): a staging
+/// directory here is then no live set's.
 fn remove_stale_staging(dir: &Path) -> Result<(), ScenarioError> {
     let entries = fs::read_dir(dir).map_err(ScenarioError::io("reading", dir))?;
     for entry in entries.flatten() {
@@ -52,6 +131,8 @@ pub struct OutputSet {
     /// The manifest of what this producer wrote last, when the set replaces
     /// it ([`OutputSet::replacing`]).
     manifest: Option<String>,
+    /// The folder's lock, held until the set is committed or dropped.
+    _lock: FolderLock,
 }
 
 impl OutputSet {
@@ -86,8 +167,21 @@ impl OutputSet {
                 ),
             });
         }
+        // Locked before anything is tidied: another run's staging and its
+        // folder being rebuilt beside this one are not stale. A folder not
+        // there yet is first put back from a swap a killed run left
+        // half-done, then created and locked.
+        let early = if dir.is_dir() {
+            Some(lock_folder(&dir)?)
+        } else {
+            None
+        };
         swap::prepare(&dir)?;
         fs::create_dir_all(&dir).map_err(ScenarioError::io("creating", &dir))?;
+        let lock = match early {
+            Some(lock) => lock,
+            None => lock_folder(&dir)?,
+        };
         remove_stale_staging(&dir)?;
         let staging = tempfile::Builder::new()
             .prefix(STAGING_PREFIX)
@@ -98,6 +192,7 @@ impl OutputSet {
             staging,
             names: Vec::new(),
             manifest: None,
+            _lock: lock,
         })
     }
 
@@ -617,6 +712,39 @@ mod tests {
         drop(set);
         assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "one\n");
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+    }
+
+    /// Found by an adversarial run (2026-12-01): two runs into one folder
+    /// at once removed each other's staging, and one said "written" of
+    /// files that were not there. Another holder of the folder's lock
+    /// (another process, or another set) is refused; the lock file goes
+    /// with the set.
+    #[test]
+    fn a_second_run_into_a_folder_being_written_is_refused() {
+        let parent = tempfile::tempdir().unwrap();
+        let dir = parent.path().join("out");
+        fs::create_dir_all(&dir).unwrap();
+        let other = fs::File::create(dir.join(LOCK_FILE)).unwrap();
+        other.try_lock().unwrap();
+        let e = OutputSet::new(&dir).unwrap_err().to_string();
+        assert!(e.contains("another run is writing into this folder"), "{e}");
+        drop(other);
+        let mut first = OutputSet::new(&dir).unwrap();
+        first.write("a.csv", b"one\n").unwrap();
+        let e = OutputSet::new(&dir).unwrap_err().to_string();
+        assert!(e.contains("another run is writing into this folder"), "{e}");
+        // A new folder is locked from its creation.
+        let fresh = parent.path().join("new");
+        let held = OutputSet::new(&fresh).unwrap();
+        assert!(OutputSet::new(&fresh).is_err());
+        drop(held);
+        first.commit().unwrap();
+        let names: Vec<String> = fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["a.csv"]);
+        assert_eq!(fs::read_dir(&fresh).unwrap().count(), 0);
     }
 
     #[test]
