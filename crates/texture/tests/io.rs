@@ -532,3 +532,41 @@ fn xyz_points_off_a_regular_grid_are_said_to_be_off_it() {
         "{message}"
     );
 }
+
+/// Found by an adversarial run (2026-12-01): points in georeferenced
+/// coordinates (x ≈ 412 345 m, y ≈ 5 612 345 m) at 0.1 mm were refused as
+/// "every point is at one (x, y)": the gap tolerance was 1e-9 of the
+/// coordinates' size, 0.4 mm there. It is now their rounding (a few ulps).
+#[test]
+fn georeferenced_xyz_points_keep_their_sub_millimetre_grid() {
+    for step in [1e-4, 5e-4] {
+        let mut text = String::new();
+        for j in 0..40 {
+            for i in 0..30 {
+                let z = 1e-4 * ((i * 7 + j * 3) % 11) as f64;
+                text.push_str(&format!(
+                    "{:.4} {:.4} {z:e}\n",
+                    412_345.0 + i as f64 * step,
+                    5_612_345.0 + j as f64 * step
+                ));
+            }
+        }
+        let map = xyz_from_str(&text).unwrap();
+        assert_eq!((map.nx(), map.ny()), (30, 40), "step {step}");
+        assert!(
+            (map.dx() / step - 1.0).abs() < 1e-6,
+            "{} for {step}",
+            map.dx()
+        );
+        assert!(
+            (map.dy() / step - 1.0).abs() < 1e-6,
+            "{} for {step}",
+            map.dy()
+        );
+        let z = map.get(3, 5).unwrap();
+        assert!(
+            (z - 1e-4 * ((3 * 7 + 5 * 3) % 11) as f64).abs() < 1e-15,
+            "{z}"
+        );
+    }
+}

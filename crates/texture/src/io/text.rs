@@ -297,7 +297,11 @@ pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
         v.sort_by(f64::total_cmp);
         let (lo, hi) = (v[0], v[v.len() - 1]);
         let span = hi - lo;
-        let tol = 1e-9 * span.abs().max(lo.abs()).max(1e-300);
+        // Gaps under the coordinates' own rounding are one grid line;
+        // georeferenced coordinates (x ≈ 4e5 m at a 0.1 mm step) resolve
+        // their step although it is 1e-10 of their size.
+        let rounding = 64.0 * f64::EPSILON * lo.abs().max(hi.abs());
+        let tol = (1e-9 * span.abs()).max(rounding).max(1e-300);
         let step = v
             .windows(2)
             .map(|w| w[1] - w[0])
@@ -310,7 +314,10 @@ pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
         if !(n.is_finite() && n <= MAX_POINTS as f64) {
             return Err(TextureError::format(XYZ, "grid too large"));
         }
-        Ok((lo, step, n as usize))
+        // The whole span over its steps: the smallest gap alone carries
+        // the rounding of two printed coordinates (2e-6 of a 0.1 mm step
+        // at y ≈ 5.6e6 m).
+        Ok((lo, span / (n - 1.0).max(1.0), n as usize))
     };
     let (x0, dx, nx) = axis(0)?;
     let (y0, dy, ny) = axis(1)?;
