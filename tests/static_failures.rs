@@ -118,7 +118,10 @@ fn a_run_that_fails_outright_says_what_looked_wrong_with_the_heights()
     let dir = tempfile::tempdir()?;
     let n = 40;
     let heights: Vec<f64> = (0..n * n)
-        .map(|k| 1e100 * ((k % n) as f64 * 0.7).sin() * ((k / n) as f64 * 0.5).cos())
+        // At 1e100 m the solve converges since 2026-12-01 (elastic contact
+        // is scale-free; its start no longer stops at an absolute width)
+        // and only warns; at 1e150 m Newton's arithmetic runs out of range.
+        .map(|k| 1e150 * ((k % n) as f64 * 0.7).sin() * ((k / n) as f64 * 0.5).cos())
         .collect();
     write_ascii_grid(
         &HeightMap::new(n, n, 2.5e-4, 2.5e-4, heights)?,
@@ -132,9 +135,9 @@ fn a_run_that_fails_outright_says_what_looked_wrong_with_the_heights()
         .run(&RunOptions::new(dir.path()))
         .err()
         .map(|e| e.to_string())
-        .ok_or("heights of 1e100 m solved")?;
+        .ok_or("heights of 1e150 m solved")?;
     assert!(
-        e.contains("(the heights: Sq ") && e.contains("e102 mm is no road"),
+        e.contains("(the heights: Sq ") && e.contains("e152 mm is no road"),
         "{e}"
     );
     Ok(())

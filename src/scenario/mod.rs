@@ -21,6 +21,7 @@
 mod bem;
 mod check;
 mod error;
+mod height_checks;
 mod history;
 mod kind_tagged;
 pub mod output;

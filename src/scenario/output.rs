@@ -16,92 +16,17 @@ use serde::Serialize;
 
 use super::ScenarioError;
 
+mod folder_lock;
 mod npz_stream;
 pub mod steps_stream;
 pub mod summits;
 pub mod swap;
 
+pub use folder_lock::LOCK_FILE;
+use folder_lock::{FolderLock, lock_folder};
+
 /// The name prefix of a set's staging directory inside its output folder.
 pub const STAGING_PREFIX: &str = ".tyreroad-staging-";
-
-/// The file that a run holds locked in its output folder while it writes
-/// there (an advisory `flock`), removed when the run's sets are done.
-pub const LOCK_FILE: &str = ".tyreroad-lock";
-
-/// A held lock on an output folder: the file is unlinked before it is
-/// closed, and a lock taken on a file that was unlinked meanwhile is taken
-/// again ([`lock_folder`]), so no two runs ever hold one folder.
-#[derive(Debug)]
-struct FolderLock {
-    path: PathBuf,
-    _file: fs::File,
-}
-
-impl Drop for FolderLock {
-    fn drop(&mut self) {
-        // Still held here: a run that opened this file before the unlink
-        // finds it gone once it gets the lock, and opens the new one.
-        let _ = fs::remove_file(&self.path);
-    }
-}
-
-/// Whether `file` is still the one at `path` (not unlinked meanwhile).
-fn still_linked(file: &fs::File, path: &Path) -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        match (file.metadata(), fs::metadata(path)) {
-            (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
-            _ => false,
-        }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = (file, path);
-        true
-    }
-}
-
-/// The lock on `dir` ([`LOCK_FILE`]). Two runs writing into one folder at
-/// once removed each other's staging and swapped the folder over each
-/// other (a run reported files written that were not there): the second
-/// (another process, or another set of this one: a folder's rebuild
-/// carries no other set's staging) is refused instead. A file system
-/// without locks runs unlocked, as before.
-fn lock_folder(dir: &Path) -> Result<FolderLock, ScenarioError> {
-    let path = dir.join(LOCK_FILE);
-    let busy = || ScenarioError::Io {
-        action: "writing outputs into",
-        path: dir.to_path_buf(),
-        source: std::io::Error::new(
-            std::io::ErrorKind::ResourceBusy,
-            "another run is writing into this folder: wait for it to end, or give another \
-             output folder",
-        ),
-    };
-    // A few rounds at most: each retry means another run unlinked the file
-    // between this open and this lock, i.e. it just ended.
-    for _ in 0..8 {
-        let file = fs::OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&path)
-            .map_err(ScenarioError::io("opening the run's lock", &path))?;
-        match file.try_lock() {
-            Ok(()) if !still_linked(&file, &path) => continue,
-            Ok(()) => {}
-            Err(fs::TryLockError::WouldBlock) => return Err(busy()),
-            Err(fs::TryLockError::Error(e)) if e.kind() == std::io::ErrorKind::Unsupported => {}
-            Err(fs::TryLockError::Error(e)) => return Err(ScenarioError::io("locking", &path)(e)),
-        }
-        return Ok(FolderLock {
-            path: path.clone(),
-            _file: file,
-        });
-    }
-    Err(busy())
-}
 
 /// Removes the staging directories a killed run left in `dir` (a run killed
 /// before its commit never moved them in; they hold nothing a reader sees).
@@ -366,108 +291,7 @@ pub fn csv_bytes<R: Serialize>(
     })
 }
 
-/// The fixed number formats of the CSV columns, as serde `serialize_with`
-/// functions: the outputs' bytes stay those of the formats they always had.
-pub mod fmt {
-    use serde::Serializer;
-
-    /// Rust's shortest round-trip `{}` (loads, band labels).
-    pub fn plain<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v}"))
-    }
-
-    /// Shortest round-trip scientific `{:e}` (coordinates).
-    pub fn sci<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:e}"))
-    }
-
-    /// Scientific, 6 decimals.
-    pub fn sci6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.6e}"))
-    }
-
-    /// Fixed, 6 decimals.
-    pub fn fixed6<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.6}"))
-    }
-
-    /// Scientific with 6 decimals, or an empty field.
-    pub fn opt_sci6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
-        match v {
-            Some(v) => sci6(v, s),
-            None => s.serialize_str(""),
-        }
-    }
-
-    /// Fixed with 6 decimals, or an empty field.
-    pub fn opt_fixed6<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
-        match v {
-            Some(v) => fixed6(v, s),
-            None => s.serialize_str(""),
-        }
-    }
-
-    /// Scientific, 9 decimals.
-    pub fn sci9<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.9e}"))
-    }
-
-    /// Scientific, 12 decimals.
-    pub fn sci12<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.12e}"))
-    }
-
-    /// Fixed, 3 decimals (levels in dB, band centres).
-    pub fn fixed3<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{v:.3}"))
-    }
-
-    /// A list of values, each scientific with 9 decimals (one column each).
-    pub fn sci9_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
-        s.collect_seq(v.iter().map(|x| Sci9(*x)))
-    }
-
-    /// A level in dB, fixed with 3 decimals; a band without power (a sensor
-    /// that never sees force: `10 log10 0 = −∞`) is an empty field, which
-    /// CSV readers take as missing (NaN), never the text `-inf`.
-    pub fn level_db<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-        if v.is_finite() {
-            fixed3(v, s)
-        } else {
-            s.serialize_str("")
-        }
-    }
-
-    /// A list of levels, each as [`level_db`] (one column each).
-    pub fn level_db_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
-        s.collect_seq(v.iter().map(|x| LevelDb(*x)))
-    }
-
-    struct LevelDb(f64);
-    impl serde::Serialize for LevelDb {
-        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            level_db(&self.0, s)
-        }
-    }
-
-    /// A list of values, each fixed with 3 decimals (one column each).
-    pub fn fixed3_all<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
-        s.collect_seq(v.iter().map(|x| Fixed3(*x)))
-    }
-
-    struct Sci9(f64);
-    impl serde::Serialize for Sci9 {
-        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            sci9(&self.0, s)
-        }
-    }
-    struct Fixed3(f64);
-    impl serde::Serialize for Fixed3 {
-        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            fixed3(&self.0, s)
-        }
-    }
-}
+pub mod fmt;
 
 /// An element type of a NumPy array.
 pub trait NpyElement: npyz::AutoSerialize + Copy {}
@@ -712,39 +536,6 @@ mod tests {
         drop(set);
         assert_eq!(fs::read_to_string(dir.join("a.csv")).unwrap(), "one\n");
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
-    }
-
-    /// Found by an adversarial run (2026-12-01): two runs into one folder
-    /// at once removed each other's staging, and one said "written" of
-    /// files that were not there. Another holder of the folder's lock
-    /// (another process, or another set) is refused; the lock file goes
-    /// with the set.
-    #[test]
-    fn a_second_run_into_a_folder_being_written_is_refused() {
-        let parent = tempfile::tempdir().unwrap();
-        let dir = parent.path().join("out");
-        fs::create_dir_all(&dir).unwrap();
-        let other = fs::File::create(dir.join(LOCK_FILE)).unwrap();
-        other.try_lock().unwrap();
-        let e = OutputSet::new(&dir).unwrap_err().to_string();
-        assert!(e.contains("another run is writing into this folder"), "{e}");
-        drop(other);
-        let mut first = OutputSet::new(&dir).unwrap();
-        first.write("a.csv", b"one\n").unwrap();
-        let e = OutputSet::new(&dir).unwrap_err().to_string();
-        assert!(e.contains("another run is writing into this folder"), "{e}");
-        // A new folder is locked from its creation.
-        let fresh = parent.path().join("new");
-        let held = OutputSet::new(&fresh).unwrap();
-        assert!(OutputSet::new(&fresh).is_err());
-        drop(held);
-        first.commit().unwrap();
-        let names: Vec<String> = fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        assert_eq!(names, ["a.csv"]);
-        assert_eq!(fs::read_dir(&fresh).unwrap().count(), 0);
     }
 
     #[test]

@@ -72,9 +72,9 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         calibration: None,
         // Sq and the missing points only: the heights are read tile by
         // tile, never whole, so no percentiles for the outliers' check.
-        warnings: super::texture::missing_points_warning(valid, total)
+        warnings: super::height_checks::missing_points_warning(valid, total)
             .into_iter()
-            .chain(super::texture::roughness_warning(road.rms()))
+            .chain(super::height_checks::roughness_warning(road.rms()))
             .collect(),
     }
 }

@@ -10,6 +10,7 @@ use tyreroad_contact_law::Material;
 use tyreroad_multipoint::{AsperitySet, Control, Problem, Solution, SolveError, solve};
 use tyreroad_texture::HeightMap;
 
+use super::height_checks::height_warnings;
 use super::statics::{StaticResult, run_static_problem, run_static_problem_with, static_loads};
 use super::{Scenario, ScenarioError, TextureSpec};
 use crate::fidelity::compare::APPROACH_MARGIN;
@@ -196,89 +197,6 @@ impl TextureSummary {
             warnings: height_warnings(map),
         }
     }
-}
-
-/// A height farther than this many times the span of the middle 98 % of
-/// the heights (1st to 99th percentile) beyond that span is no road
-/// surface: a road's deepest pore or highest chipping lies within the
-/// span, or just beyond it.
-const OUTLIER_SPANS: f64 = 10.0;
-
-/// Sq above this (m) is no road texture (theirs are tenths of a millimetre
-/// to a few millimetres): heights in µm or mm read as metres.
-const LARGEST_ROAD_SQ: f64 = 0.05;
-
-/// [`TextureSummary::warnings`] of `map`.
-pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
-    let mut z: Vec<f64> = map
-        .heights()
-        .iter()
-        .zip(map.valid())
-        .filter(|(_, ok)| **ok)
-        .map(|(h, _)| *h)
-        .collect();
-    let mut warnings = Vec::new();
-    if z.len() >= 100 {
-        let n = z.len();
-        let mut percentile = |q: usize| {
-            *z.select_nth_unstable_by(q * (n - 1) / 100, f64::total_cmp)
-                .1
-        };
-        let (low, high) = (percentile(1), percentile(99));
-        let span = high - low;
-        let (lo, hi) = (low - OUTLIER_SPANS * span, high + OUTLIER_SPANS * span);
-        let outside: Vec<f64> = z.iter().copied().filter(|h| *h < lo || *h > hi).collect();
-        if span > 0.0 && !outside.is_empty() {
-            let beyond = |h: f64| (low - h).max(h - high);
-            let worst = outside
-                .iter()
-                .copied()
-                .fold(high, |w, h| if beyond(h) > beyond(w) { h } else { w });
-            warnings.push(format!(
-                "{} height(s) lie more than {OUTLIER_SPANS} times the span of the others \
-                 ({:.3} mm, 1st to 99th percentile) outside it, the farthest at {worst:e} m: \
-                 sentinel values or spikes? give missing points as NaN (docs/texture.md)",
-                outside.len(),
-                span * 1e3
-            ));
-        }
-    }
-    warnings.extend(missing_points_warning(
-        map.valid_count(),
-        map.heights().len(),
-    ));
-    warnings.extend(map.rms().and_then(roughness_warning));
-    warnings
-}
-
-/// A warning when some of a map's `total` points are missing (`valid` hold
-/// a height).
-pub(crate) fn missing_points_warning(valid: usize, total: usize) -> Option<String> {
-    (valid < total).then(|| {
-        let missing = total - valid;
-        format!(
-            "{missing} of {total} points ({:.2} %) are missing (NaN or the format's marker): \
-             asperities are segmented around them, so one crossed by missing points may be \
-             split or lost (docs/texture.md)",
-            100.0 * missing as f64 / total as f64
-        )
-    })
-}
-
-/// A warning when `sq` (m) is no road texture's roughness.
-pub(crate) fn roughness_warning(sq: f64) -> Option<String> {
-    (sq > LARGEST_ROAD_SQ).then(|| {
-        let mm = sq * 1e3;
-        let mm = if mm < 1e6 {
-            format!("{mm:.3}")
-        } else {
-            format!("{mm:.3e}")
-        };
-        format!(
-            "Sq {mm} mm is no road texture's (a few millimetres at most): are the heights \
-             in metres?"
-        )
-    })
 }
 
 /// One load of a texture run: the two-scale rebuild of its contacts.
@@ -670,47 +588,6 @@ pub(crate) fn calibrated_texture_road_set_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A sine texture of 0.5 mm amplitude on 0.1 mm cells, some cells
-    /// replaced by `cells` (index, height), one missing.
-    fn texture(cells: &[(usize, f64)]) -> HeightMap {
-        let mut z: Vec<f64> = (0..100 * 100)
-            .map(|k| 0.5e-3 * ((k % 100) as f64 * 0.3).sin() * ((k / 100) as f64 * 0.2).cos())
-            .collect();
-        z[17] = f64::NAN;
-        for &(k, h) in cells {
-            z[k] = h;
-        }
-        HeightMap::from_nan_heights(100, 100, 1e-4, 1e-4, z).expect("a map")
-    }
-
-    #[test]
-    fn sentinel_heights_and_a_roughness_in_another_unit_are_warned_of() {
-        // The one missing point (z[17]) is counted, and nothing else said.
-        let missing = "1 of 10000 points (0.01 %) are missing";
-        let w = height_warnings(&texture(&[]));
-        assert!(w.len() == 1 && w[0].starts_with(missing), "{w:?}");
-        // A 3 mm bump on a 0.5 mm texture is a road's; 9999 m is not.
-        assert_eq!(height_warnings(&texture(&[(500, 3e-3)])), w);
-        let w = height_warnings(&texture(&[(500, 9999.0), (900, -9999.5)]));
-        assert_eq!(w.len(), 3, "{w:?}");
-        assert!(
-            w[0].starts_with("2 height(s)") && w[0].contains("-9.9995e3 m"),
-            "{w:?}"
-        );
-        assert!(w[1].starts_with(missing), "{w:?}");
-        assert!(w[2].contains("are the heights in metres"), "{w:?}");
-        // Micrometres read as metres: every height 1e6 times too large.
-        let scaled = texture(&[]);
-        let um: Vec<f64> = scaled.heights().iter().map(|h| h * 1e6).collect();
-        let w =
-            height_warnings(&HeightMap::from_nan_heights(100, 100, 1e-4, 1e-4, um).expect("a map"));
-        assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[1].starts_with("Sq "), "{w:?}");
-        // A flat map has no span to measure against: nothing said.
-        let flat = HeightMap::new(10, 10, 1e-4, 1e-4, vec![0.0; 100]).expect("a map");
-        assert!(height_warnings(&flat).is_empty());
-    }
 
     /// The synthetic road kinds and the fixtures' texture files are roads:
     /// none is warned of (pores, grooves and joints lie within the span).
