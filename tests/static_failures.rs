@@ -317,3 +317,77 @@ fn a_texture_load_listed_twice_is_solved_and_mapped_twice() -> Result<(), Box<dy
     }
     Ok(())
 }
+
+/// Regression (adversarial run, 2026-12-01): a map whose export wrote
+/// −9999 m at 2 % of its points, where it measured nothing, was solved as
+/// a road of deep wells (warned of only through its Sq and Sdq, and the
+/// two-scale stage widened every local grid around them). The repeated far
+/// value is now read as missing points, said so, and the run gives what
+/// the same map with NaN there gives.
+#[test]
+fn sentinel_heights_are_read_as_missing_points() -> Result<(), Box<dyn std::error::Error>> {
+    use tyreroad::scenario::{RunOptions, Scenario, ScenarioResult};
+    use tyreroad::texture::HeightMap;
+    use tyreroad::texture::io::text::write_ascii_grid;
+    let dir = tempfile::tempdir()?;
+    let n = 60;
+    let marked = |marker: f64| -> Vec<f64> {
+        (0..n * n)
+            .map(|k| {
+                let (x, y) = ((k % n) as f64, (k / n) as f64);
+                if k % 50 == 3 {
+                    marker
+                } else {
+                    // Domes 4 mm apart, 0.5 mm high, at 0.25 mm.
+                    2.5e-4 * (1.0 + (x * 0.39).cos() * (y * 0.39).cos())
+                }
+            })
+            .collect()
+    };
+    for (name, marker) in [("marked", -9999.0), ("nan", f64::NAN)] {
+        let map = HeightMap::from_nan_heights(n, n, 2.5e-4, 2.5e-4, marked(marker))?;
+        write_ascii_grid(&map, dir.path().join(format!("{name}.asc")))?;
+    }
+    let run = |name: &str| -> Result<_, Box<dyn std::error::Error>> {
+        let text = format!(
+            "name = \"{name}\"\n[material]\nyoungs_modulus = \"6.54 MPa\"\npoisson_ratio = 0.5\n\
+             [model]\nfidelity = \"wilke\"\n[static]\nloads = [\"10 N\"]\n\
+             [texture]\nfile = \"{name}.asc\"\nmin_prominence = \"0.1 mm\"\nmin_area = \"0.5 mm2\"\n"
+        );
+        let ScenarioResult::Texture(t) =
+            Scenario::parse(&text, name)?.run(&RunOptions::new(dir.path()))?
+        else {
+            return Err("not a texture result".into());
+        };
+        Ok(t)
+    };
+    let (marked, nan) = (run("marked")?, run("nan")?);
+    let missing = (0..n * n).filter(|k| k % 50 == 3).count();
+    assert_eq!(marked.map.valid_count(), n * n - missing);
+    // NaN at the missing points of both (NaN ≠ NaN: compare the masks).
+    assert!(marked.map.valid() == nan.map.valid());
+    let valid_heights = |t: &tyreroad::scenario::TextureResult| -> Vec<f64> {
+        let m = &t.map;
+        m.heights()
+            .iter()
+            .zip(m.valid())
+            .filter_map(|(h, ok)| ok.then_some(*h))
+            .collect()
+    };
+    assert!(valid_heights(&marked) == valid_heights(&nan));
+    assert!(
+        marked.texture.warnings[0].starts_with(&format!(
+            "{missing} point(s) at -9.999e3 m, a value repeated far outside"
+        )),
+        "{:?}",
+        marked.texture.warnings
+    );
+    assert!(nan.texture.warnings.iter().all(|w| !w.contains("no data")));
+    // The same map, so the same contact: every asperity's force equal.
+    let forces = |t: &tyreroad::scenario::TextureResult| -> Vec<f64> {
+        t.statics.rows.iter().map(|r| r.force).collect()
+    };
+    assert!(!forces(&marked).is_empty());
+    assert_eq!(forces(&marked), forces(&nan));
+    Ok(())
+}

@@ -212,19 +212,42 @@ pub enum SynthSpec {
 
 impl TextureSpec {
     /// The height map: `file` read relative to `base_dir`, or synthesised.
+    /// A file's "no data" markers written as heights (−9999, 1e30:
+    /// [`tyreroad_texture::find_sentinels`]) are read as missing points.
     pub fn height_map(&self, base_dir: &Path) -> Result<HeightMap> {
+        self.height_map_and_notes(base_dir).map(|(map, _)| map)
+    }
+
+    /// [`TextureSpec::height_map`], and what reading it changed that a
+    /// run's user should be told (the markers read as missing points).
+    pub fn height_map_and_notes(&self, base_dir: &Path) -> Result<(HeightMap, Vec<String>)> {
         match (&self.file, &self.synth) {
             (Some(file), None) => {
                 let path = base_dir.join(file);
-                let map =
-                    tyreroad_texture::read_any(&path).map_err(|source| ScenarioError::Texture {
-                        context: format!("[texture] reading {}", path.display()),
-                        source,
-                    })?;
+                let texture_error = |source| ScenarioError::Texture {
+                    context: format!("[texture] reading {}", path.display()),
+                    source,
+                };
+                let map = tyreroad_texture::read_any(&path).map_err(texture_error)?;
                 super::ranges::texture_file_spacing(&path, map.dx(), map.dy())?;
-                Ok(map)
+                let sentinels = tyreroad_texture::find_sentinels(&map);
+                if sentinels.is_empty() {
+                    return Ok((map, Vec::new()));
+                }
+                let map = map.without_values(&sentinels).map_err(texture_error)?;
+                let notes = sentinels
+                    .iter()
+                    .map(|s| {
+                        format!(
+                            "{} point(s) at {:e} m, a value repeated far outside the other \
+                             heights (a \"no data\" marker), are read as missing points",
+                            s.points, s.value
+                        )
+                    })
+                    .collect();
+                Ok((map, notes))
             }
-            (None, Some(synth)) => synth.height_map(),
+            (None, Some(synth)) => synth.height_map().map(|map| (map, Vec::new())),
             (Some(_), Some(_)) => Err(ScenarioError::Invalid(
                 "[texture]: give `file` or [texture.synth], not both".into(),
             )),

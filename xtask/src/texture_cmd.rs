@@ -153,8 +153,18 @@ pub fn run(cmd: &TextureCommand) -> Result<()> {
                      (ISO 13473-1 uses 0.1)"
                 );
             }
-            let map =
+            let read =
                 texture::read_any(file).with_context(|| format!("reading {}", file.display()))?;
+            // As a run reads it: "no data" markers are missing points.
+            let markers = texture::find_sentinels(&read);
+            let map = read.without_values(&markers)?;
+            for marker in &markers {
+                say!(
+                    "no_data_marker_m: {:e} ({} points, read as missing)",
+                    marker.value,
+                    marker.points
+                );
+            }
             if let Some(b) = baseline
                 && let Err(e) = texture::mean_profile_depth(&map, Some(*b))
             {

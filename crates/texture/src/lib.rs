@@ -31,6 +31,11 @@
 //! tests feed them arbitrary, truncated and mutated bytes); writers write a
 //! temporary file and rename it, so an output is whole or absent.
 //!
+//! A "no data" marker written as a height (−9999, 1e30) is found by
+//! [`find_sentinels`]: a value repeated exactly and lying more than
+//! [`sentinel::SENTINEL_SPANS`] times the others' 1st–99th percentile span
+//! beyond them; [`HeightMap::without_values`] marks its points missing.
+//!
 //! # Synthesis ([`synth`])
 //!
 //! Self-affine Gaussian surfaces ([`synth::SelfAffine`]): white noise
@@ -132,6 +137,7 @@ pub mod segment;
 pub mod segment_split;
 mod segment_taint;
 pub mod segment_window;
+pub mod sentinel;
 pub mod synth;
 
 pub use cap::{CapOptions, GridCap, asperity_cap};
@@ -147,6 +153,7 @@ pub use roads::{
 pub use segment::{Asperity, SegmentOptions, Segmentation, SummitFit, UNLABELLED, segment};
 pub use segment_split::split_wide_tops;
 pub use segment_window::{WindowFrame, WindowSegmentation, segment_window};
+pub use sentinel::{Sentinel, find_sentinels};
 pub use synth::{
     Aggregate, ChipShape, MAX_CHIPS, MIN_CHIP_CELLS, SelfAffine, aggregate, self_affine,
 };
