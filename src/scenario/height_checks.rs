@@ -3,6 +3,7 @@
 //! what looks wrong and what the user may have meant: sentinel values and
 //! spikes, a roughness or slopes in another unit, a tilted map.
 
+use tyreroad_core::readable3;
 use tyreroad_texture::HeightMap;
 
 /// A height farther than this many times the span of the middle 98 % of
@@ -32,18 +33,46 @@ const TILT_SQS: f64 = 2.0;
 /// synthetic `pave`, 40 × 30 mm) leans 3.9 % on their domes.
 const LEVEL_SLOPE: f64 = 0.1;
 
+/// A spacing coarser than this (m) is no texture measurement's (a tenth
+/// of a millimetre to a millimetre: macrotexture's wavelengths of 0.5 to
+/// 50 mm need it): a spacing in millimetres read as metres, most likely
+/// (an X3P's increment of 0.25 read as 0.25 m).
+const COARSEST_TEXTURE_SPACING: f64 = 0.01;
+
+/// A warning when a map's spacing `dx`, `dy` (m) is coarser than a
+/// texture's.
+pub(crate) fn spacing_warning(dx: f64, dy: f64) -> Option<String> {
+    (dx.max(dy) > COARSEST_TEXTURE_SPACING).then(|| {
+        format!(
+            "the map's spacing (dx {} mm, dy {} mm) is coarser than any texture measurement's \
+             (0.1 to 1 mm; macrotexture's wavelengths of 0.5 to 50 mm need it): is the \
+             spacing in millimetres where metres were meant?",
+            readable3(dx * 1e3),
+            readable3(dy * 1e3)
+        )
+    })
+}
+
 /// The RMS slope `Sdq = √(⟨(∂z/∂x)²⟩ + ⟨(∂z/∂y)²⟩)` of `map` over the pairs
 /// of neighbouring valid points (`None` without such a pair).
 fn rms_slope(map: &HeightMap) -> Option<f64> {
     let (nx, ny) = (map.nx(), map.ny());
     let (z, ok) = (map.heights(), map.valid());
+    // Heights in units of the largest: squares of 1e150 m heights would
+    // overflow, and the warning would print "inf".
+    let scale = z
+        .iter()
+        .zip(ok)
+        .filter(|(_, ok)| **ok)
+        .fold(0.0f64, |m, (h, _)| m.max(h.abs()));
+    let unit = if scale > 0.0 { scale } else { 1.0 };
     let mean_square = |di: usize, dj: usize, d: f64| {
         let (mut sum, mut n) = (0.0, 0usize);
         for j in 0..ny - dj {
             for i in 0..nx - di {
                 let (a, b) = (j * nx + i, (j + dj) * nx + i + di);
                 if ok[a] && ok[b] {
-                    sum += ((z[b] - z[a]) / d).powi(2);
+                    sum += ((z[b] / unit - z[a] / unit) / d).powi(2);
                     n += 1;
                 }
             }
@@ -52,7 +81,7 @@ fn rms_slope(map: &HeightMap) -> Option<f64> {
     };
     match (mean_square(1, 0, map.dx()), mean_square(0, 1, map.dy())) {
         (None, None) => None,
-        (x, y) => Some((x.unwrap_or(0.0) + y.unwrap_or(0.0)).sqrt()),
+        (x, y) => Some(unit * (x.unwrap_or(0.0) + y.unwrap_or(0.0)).sqrt()),
     }
 }
 
@@ -127,12 +156,12 @@ fn slope_warnings(map: &HeightMap) -> Vec<String> {
         && rise > TILT_SQS * sq
     {
         warnings.push(format!(
-            "the map is tilted: its best-fit plane rises {:.3} mm across it (slope {:.1} %), \
-             more than {TILT_SQS} times its Sq about that plane ({:.3} mm); the load goes to \
+            "the map is tilted: its best-fit plane rises {} mm across it (slope {:.1} %), \
+             more than {TILT_SQS} times its Sq about that plane ({} mm); the load goes to \
              the high edge. Level it (subtract the plane) if the tilt is the measurement's",
-            rise * 1e3,
+            readable3(rise * 1e3),
             slope * 100.0,
-            sq * 1e3
+            readable3(sq * 1e3)
         ));
     }
     warnings
@@ -195,6 +224,7 @@ pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
         map.heights().len(),
     ));
     warnings.extend(map.rms().and_then(roughness_warning));
+    warnings.extend(spacing_warning(map.dx(), map.dy()));
     warnings.extend(slope_warnings(map));
     warnings
 }
@@ -216,12 +246,7 @@ pub(crate) fn missing_points_warning(valid: usize, total: usize) -> Option<Strin
 /// A warning when `sq` (m) is no road texture's roughness.
 pub(crate) fn roughness_warning(sq: f64) -> Option<String> {
     (sq > LARGEST_ROAD_SQ).then(|| {
-        let mm = sq * 1e3;
-        let mm = if mm < 1e6 {
-            format!("{mm:.3}")
-        } else {
-            format!("{mm:.3e}")
-        };
+        let mm = readable3(sq * 1e3);
         format!(
             "Sq {mm} mm is no road texture's (a few millimetres at most): are the heights \
              in metres?"
@@ -309,7 +334,30 @@ mod tests {
         let mm: Vec<f64> = (0..1600)
             .map(|k| 0.25 * (((k % 40) as f64 * 0.785).cos() + ((k / 40) as f64 * 0.785).cos()))
             .collect();
-        let w = height_warnings(&HeightMap::new(40, 40, 5e-4, 5e-4, mm).expect("a map"));
+        let w = height_warnings(&HeightMap::new(40, 40, 5e-4, 5e-4, mm.clone()).expect("a map"));
         assert!(w.iter().any(|w| w.contains("RMS slope")), "{w:?}");
+        // The same map at 1e150 m: the squares of its slopes overflow, and
+        // Sdq read "inf" (adversarial run, 2026-12-01); Sq prints in
+        // scientific notation, not in 150 digits.
+        let huge: Vec<f64> = mm.iter().map(|h| h * 4e150).collect();
+        let w = height_warnings(&HeightMap::new(40, 40, 5e-4, 5e-4, huge).expect("a map"));
+        let sdq = w
+            .iter()
+            .find(|w| w.contains("RMS slope"))
+            .expect("an Sdq warning");
+        assert!(sdq.contains("e153:") && !sdq.contains("inf"), "{sdq}");
+        assert!(w.iter().any(|w| w.starts_with("Sq 9.998e152 mm")), "{w:?}");
+        // An X3P's increment in millimetres read as metres (adversarial
+        // run, 2026-12-01): the 0.25 mm map above at 0.25 m.
+        let coarse: Vec<f64> = mm.iter().map(|h| h * 1e-3).collect();
+        let w = height_warnings(&HeightMap::new(40, 40, 0.25, 0.25, coarse).expect("a map"));
+        assert!(
+            w.len() == 1 && w[0].starts_with("the map's spacing (dx 250.000 mm, dy 250.000 mm)"),
+            "{w:?}"
+        );
+        let fine: Vec<f64> = mm.iter().map(|h| h * 1e-3).collect();
+        assert!(
+            height_warnings(&HeightMap::new(40, 40, 1e-3, 1e-3, fine).expect("a map")).is_empty()
+        );
     }
 }

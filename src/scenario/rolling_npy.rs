@@ -70,11 +70,13 @@ pub(super) fn npy_summary(road: &NpyTextureRoad) -> TextureSummary {
         asperities: road.len(),
         segmented: road.segmented(),
         calibration: None,
-        // Sq and the missing points only: the heights are read tile by
-        // tile, never whole, so no percentiles for the outliers' check.
+        // Sq, the spacing and the missing points only: the heights are
+        // read tile by tile, never whole, so no percentiles for the
+        // outliers' check.
         warnings: super::height_checks::missing_points_warning(valid, total)
             .into_iter()
             .chain(super::height_checks::roughness_warning(road.rms()))
+            .chain(super::height_checks::spacing_warning(dx, dy))
             .collect(),
     }
 }

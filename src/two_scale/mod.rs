@@ -237,9 +237,9 @@ impl std::fmt::Display for LocalStatus {
             ),
             Self::PressedToFloor { depth } => write!(
                 f,
-                "pressed down to the surface {:.3} mm below the summit: \
+                "pressed down to the surface {} mm below the summit: \
                  contact on it reaches the edge of the local grid, area cut by the edge",
-                depth * 1e3
+                tyreroad_core::readable3(depth * 1e3)
             ),
             Self::HertzFallback { reason } => write!(f, "Hertz field instead of BEM: {reason}"),
         }

@@ -41,6 +41,17 @@ pub fn readable(x: f64) -> String {
     }
 }
 
+/// `x` with three decimals (`0.300`, `12.500`) where that is short
+/// (`|x| < 1e6`), with three in scientific notation beyond (`1.000e150`),
+/// where fixed notation would print hundreds of digits.
+pub fn readable3(x: f64) -> String {
+    if x.is_finite() && x.abs() >= 1e6 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.3}")
+    }
+}
+
 impl From<realfft::FftError> for CoreError {
     fn from(e: realfft::FftError) -> Self {
         Self::Fft(e.to_string())
@@ -50,6 +61,15 @@ impl From<realfft::FftError> for CoreError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn three_decimals_stay_short_for_huge_values() {
+        assert_eq!(readable3(0.3), "0.300");
+        assert_eq!(readable3(-12.5), "-12.500");
+        assert_eq!(readable3(999_999.0), "999999.000");
+        assert_eq!(readable3(1e150), "1.000e150");
+        assert_eq!(readable3(f64::INFINITY), "inf");
+    }
 
     #[test]
     fn extreme_values_print_in_scientific_notation_not_hundreds_of_digits() {

@@ -83,7 +83,7 @@ pub mod spectrum;
 mod union_find;
 pub mod validate;
 
-pub use error::{CoreError, readable};
+pub use error::{CoreError, readable, readable3};
 pub use grid::{Field, Grid, MAX_CELLS};
 pub use input_file::{MAX_INPUT_BYTES, check_input_file, read_input_file, read_input_text};
 pub use material::Material;
