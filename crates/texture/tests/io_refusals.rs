@@ -331,6 +331,26 @@ fn a_header_unit_and_rows_of_the_wrong_length_are_refused() {
     assert_eq!(ok, back);
 }
 
+/// Found by an adversarial run (2026-12-01): a grid whose lines end with
+/// CR alone (classic Mac OS text) was one line, refused as "no `data` line
+/// ends the header". It reads as the same grid with LF or CRLF; an xyz
+/// file likewise.
+#[test]
+fn lines_ended_by_cr_alone_are_lines() {
+    use tyreroad_texture::io::text::{ascii_grid_from_str, xyz_from_str, xyz_to_string};
+    let lf = grid_text(
+        "nx 5\nny 3\ndx 1e-4\ndy 2e-4",
+        &[vec![1e-4; 5], vec![2e-4; 5], vec![3e-4; 5]],
+    );
+    let map = ascii_grid_from_str(&lf).unwrap();
+    assert_eq!((map.nx(), map.ny(), map.heights()[10]), (5, 3, 3e-4));
+    for ending in ["\r", "\r\n"] {
+        assert_eq!(ascii_grid_from_str(&lf.replace('\n', ending)).unwrap(), map);
+        let xyz = xyz_to_string(&map).replace('\n', ending);
+        assert_eq!(xyz_from_str(&xyz).unwrap(), map);
+    }
+}
+
 /// Found by an adversarial run (2026-12-01): a FIFO named as the texture
 /// blocked the run forever, `/dev/zero` read until memory ran out.
 #[test]

@@ -1,5 +1,6 @@
 //! Plain-text height maps: the ASCII grid and xyz point lists.
 
+use std::borrow::Cow;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -37,7 +38,8 @@ pub fn read_ascii_grid(path: impl AsRef<Path>) -> Result<HeightMap, TextureError
 /// that are rows hold `nx` values: lines all longer than `nx`, or one line
 /// off `nx` among rows of `nx`, are refused with the line's number.
 pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
-    let mut lines = without_bom(s).lines();
+    let text = text_lines(s);
+    let mut lines = text.lines();
     let (mut nx, mut ny, mut dx, mut dy) = (None, None, None, None);
     let (mut zs, mut xys) = (1.0, 1.0);
     let num = |k: &str, v: Option<&str>| -> Result<f64, TextureError> {
@@ -137,7 +139,7 @@ pub fn ascii_grid_from_str(s: &str) -> Result<HeightMap, TextureError> {
     // Values per data line, with the line's number in the file, to tell a
     // wrapped row from rows of the wrong length.
     let mut line_counts: Vec<(usize, usize)> = Vec::new();
-    let header_lines = without_bom(s).lines().count() - lines.clone().count();
+    let header_lines = text.lines().count() - lines.clone().count();
     for (k, line) in lines.enumerate() {
         let line = line.trim();
         if line.starts_with('#') {
@@ -258,7 +260,7 @@ pub fn read_xyz(path: impl AsRef<Path>) -> Result<HeightMap, TextureError> {
 /// whose z is `NaN`, are missing. A duplicated grid point is an error, and
 /// so is a grid more than 64 times larger than the point count.
 pub fn xyz_from_str(s: &str) -> Result<HeightMap, TextureError> {
-    let s = without_bom(s);
+    let s = text_lines(s);
     let mut pts: Vec<[f64; 3]> = Vec::new();
     for (ln, line) in s.lines().enumerate() {
         let line = line.trim();
@@ -403,4 +405,17 @@ pub fn write_xyz(map: &HeightMap, path: impl AsRef<Path>) -> Result<(), TextureE
 /// exports on Windows write one; it is not part of the first key).
 pub(crate) fn without_bom(s: &str) -> &str {
     s.strip_prefix('\u{feff}').unwrap_or(s)
+}
+
+/// `s` [`without_bom`], its lines ended as `str::lines` reads them: text
+/// from classic Mac OS (and some instruments' exports) ends its lines with
+/// CR alone, which `lines` would read as one line (an ASCII grid then said
+/// "no `data` line ends the header").
+fn text_lines(s: &str) -> Cow<'_, str> {
+    let s = without_bom(s);
+    if s.contains('\r') && !s.contains('\n') {
+        Cow::Owned(s.replace('\r', "\n"))
+    } else {
+        Cow::Borrowed(s)
+    }
 }
