@@ -293,6 +293,9 @@ pub fn run(args: &FilmArgs) -> Result<()> {
         det.background_grey,
         det.pixel_size
     );
+    for warning in det.warnings() {
+        say!("warning: {warning}");
+    }
     let saturated: usize = det.prints.iter().map(|p| p.saturated_pixels).sum();
     if saturated > 0 {
         say!("warning: {saturated} saturated pixels: forces there are lower bounds");

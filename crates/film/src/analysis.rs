@@ -230,6 +230,38 @@ pub struct Detection {
     pub labels: Vec<u32>,
 }
 
+/// A print that reaches the scan's border and covers more than this
+/// fraction of it is the background read as pressure: a press test's prints
+/// are islands on unreacted film.
+pub const BACKGROUND_PRINT_FRACTION: f64 = 0.5;
+
+impl Detection {
+    /// What a reader of this detection should be told: each print that
+    /// reaches the scan's border and covers more than
+    /// [`BACKGROUND_PRINT_FRACTION`] of it, the background read as pressure
+    /// (a scan inverted, prints light on dark film, or a threshold above
+    /// the unreacted film's grey). Empty for a scan of islands.
+    pub fn warnings(&self) -> Vec<String> {
+        let pixels = (self.width * self.height) as f64;
+        self.prints
+            .iter()
+            .filter(|p| {
+                p.touches_border && p.pixel_count as f64 > BACKGROUND_PRINT_FRACTION * pixels
+            })
+            .map(|p| {
+                format!(
+                    "print {} covers {:.0} % of the scan and reaches its border: the background \
+                     reads as pressure; is the scan inverted (prints light on dark film), or the \
+                     threshold (grey {:.4}) above the unreacted film's?",
+                    p.label,
+                    100.0 * p.pixel_count as f64 / pixels,
+                    self.threshold_grey
+                )
+            })
+            .collect()
+    }
+}
+
 /// Grey histogram with `levels` bins over [0, 1] (bin `k` holds grey values
 /// rounding to `k / (levels − 1)`).
 pub fn histogram(grey: &[f32], levels: usize) -> Vec<u64> {

@@ -129,8 +129,8 @@ pub(crate) fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
 }
 
 pub use analysis::{
-    AnalysisOptions, Connectivity, Detection, Ellipse, Estimator, HertzFit, Print, Threshold,
-    analyse, connected_components, histogram, otsu,
+    AnalysisOptions, BACKGROUND_PRINT_FRACTION, Connectivity, Detection, Ellipse, Estimator,
+    HertzFit, Print, Threshold, analyse, connected_components, histogram, otsu,
 };
 pub use annotate::{annotate, annotated_png, draw_number};
 pub use calibration::{

@@ -195,6 +195,26 @@ fn a_scan_without_background_is_named_not_the_calibration() -> Result<()> {
     Ok(())
 }
 
+/// Found by the seventh adversarial run (2026-12-01): an inverted scan
+/// (the print light on dark film) gave "1 print in the scan", the
+/// background measured as one print, without a word.
+#[test]
+fn an_inverted_scan_is_warned_of_as_background_read_as_pressure() -> Result<()> {
+    let film = film();
+    let opts = AnalysisOptions::default();
+    let upright = Scan::from_grey(64, 64, disk(0.9, 0.2), Some(1e-4), 8)?;
+    let det = analyse(&upright, &film, &opts)?;
+    assert_eq!(det.prints.len(), 1);
+    assert!(det.warnings().is_empty(), "{:?}", det.warnings());
+    let inverted = Scan::from_grey(64, 64, disk(0.2, 0.9), Some(1e-4), 8)?;
+    let w = analyse(&inverted, &film, &opts)?.warnings();
+    assert!(
+        w.len() == 1 && w[0].starts_with("print 1 covers 93 % of the scan and reaches its border"),
+        "{w:?}"
+    );
+    Ok(())
+}
+
 /// U7: Otsu's threshold on a uniform scan reported "threshold grey NaN".
 #[test]
 fn otsu_on_a_uniform_scan_names_its_one_grey_not_a_nan_threshold() -> Result<()> {
