@@ -167,6 +167,28 @@ fn slope_warnings(map: &HeightMap) -> Vec<String> {
     warnings
 }
 
+/// `map` with its "no data" markers ([`tyreroad_texture::find_sentinels`])
+/// read as missing points, and a note for each marker (none: `map` as is).
+pub(crate) fn markers_as_missing(
+    map: HeightMap,
+) -> Result<(HeightMap, Vec<String>), tyreroad_texture::TextureError> {
+    let markers = tyreroad_texture::find_sentinels(&map);
+    if markers.is_empty() {
+        return Ok((map, Vec::new()));
+    }
+    let notes = markers
+        .iter()
+        .map(|s| {
+            format!(
+                "{} point(s) at {:e} m, a value repeated far outside the other heights (a \
+                 \"no data\" marker), are read as missing points",
+                s.points, s.value
+            )
+        })
+        .collect();
+    Ok((map.without_values(&markers)?, notes))
+}
+
 /// [`TextureSummary::warnings`] of `map`.
 pub(crate) fn height_warnings(map: &HeightMap) -> Vec<String> {
     let mut z: Vec<f64> = map

@@ -112,6 +112,7 @@ mod annotate;
 mod calibration;
 mod compare;
 mod error;
+mod hertz_fit;
 mod layout;
 mod scan;
 mod synthetic;
