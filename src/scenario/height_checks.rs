@@ -9,8 +9,10 @@ use tyreroad_texture::HeightMap;
 /// A height farther than this many times the span of the middle 98 % of
 /// the heights (1st to 99th percentile) beyond that span is no road
 /// surface: a road's deepest pore or highest chipping lies within the
-/// span, or just beyond it.
-const OUTLIER_SPANS: f64 = 10.0;
+/// span, or just beyond it. The rule that tells a repeated "no data"
+/// marker, so a lone spike is warned of exactly where a repeated one is
+/// read as missing.
+const OUTLIER_SPANS: f64 = tyreroad_texture::sentinel::SENTINEL_SPANS;
 
 /// Sq above this (m) is no road texture (theirs are tenths of a millimetre
 /// to a few millimetres): heights in µm or mm read as metres.

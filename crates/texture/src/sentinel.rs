@@ -42,12 +42,24 @@ pub struct Sentinel {
 /// heights are all one value (no span) has none: the caller's flat-map
 /// warning speaks of it.
 pub fn find_sentinels(map: &HeightMap) -> Vec<Sentinel> {
-    let mut z: Vec<f64> = map
-        .heights()
-        .iter()
-        .zip(map.valid())
-        .filter_map(|(h, ok)| ok.then_some(*h))
-        .collect();
+    let valid = || {
+        map.heights()
+            .iter()
+            .zip(map.valid())
+            .filter_map(|(h, ok)| ok.then_some(*h))
+    };
+    // A marker is the lowest or highest value, repeated: a measured map's
+    // extremes are most often single, and then it needs no sort.
+    let Some((lo, hi)) = map.min_max() else {
+        return Vec::new();
+    };
+    let (at_lo, at_hi) = valid().fold((0usize, 0usize), |(a, b), h| {
+        (a + usize::from(h == lo), b + usize::from(h == hi))
+    });
+    if at_lo < 2 && at_hi < 2 {
+        return Vec::new();
+    }
+    let mut z: Vec<f64> = valid().collect();
     z.sort_unstable_by(f64::total_cmp);
     let (mut lo, mut hi) = (0, z.len());
     let mut found = Vec::new();
